@@ -1,0 +1,36 @@
+# The two commands a newcomer needs: `make demo` and `make test`. PRESET picks the CMake preset
+# (release, debug, asan); `make test PRESET=asan` runs the tests under the sanitizers.
+PRESET ?= release
+BUILD_DIR := build/$(PRESET)
+X2CAR := $(BUILD_DIR)/apps/x2car/x2car
+
+.PHONY: all setup configure build test demo bench format format-check clean
+
+all: build
+
+setup:
+	@scripts/setup
+
+configure: setup
+	@cmake --preset $(PRESET) >/dev/null
+
+build: configure
+	@cmake --build --preset $(PRESET)
+
+test: build
+	@ctest --preset $(PRESET)
+
+demo: build
+	@scripts/demo $(X2CAR)
+
+bench: build
+	@scripts/bench $(BUILD_DIR)
+
+format:
+	@git ls-files '*.cpp' '*.hpp' | xargs clang-format -i
+
+format-check:
+	@git ls-files '*.cpp' '*.hpp' | xargs clang-format --dry-run -Werror
+
+clean:
+	@rm -rf build

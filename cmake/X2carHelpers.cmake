@@ -1,0 +1,20 @@
+# x2car_module(NAME SOURCES ... DEPENDS ...): one static library per module folder.
+function(x2car_module name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPENDS" ${ARGN})
+  add_library(x2car_${name} STATIC ${ARG_SOURCES})
+  add_library(x2car::${name} ALIAS x2car_${name})
+  target_include_directories(x2car_${name} PUBLIC ${PROJECT_SOURCE_DIR})
+  target_link_libraries(x2car_${name} PUBLIC ${ARG_DEPENDS} PRIVATE x2car_warnings)
+endfunction()
+
+# x2car_tests(NAME SOURCES ... DEPENDS ...): one GoogleTest binary per module, registered with ctest.
+function(x2car_tests name)
+  if(NOT X2CAR_BUILD_TESTS)
+    return()
+  endif()
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPENDS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPENDS} GTest::gtest GTest::gmock GTest::gtest_main
+                                        x2car_warnings)
+  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60)
+endfunction()

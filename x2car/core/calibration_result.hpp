@@ -1,0 +1,69 @@
+// The one result type every calibrator returns (DESIGN §2, §6): the angles it could observe, their
+// standard errors, the evidence behind them and, when it failed, why.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "x2car/core/rotation.hpp"
+
+namespace x2car {
+
+enum class CalibrationStatus {
+  kOk,                // every observable angle was estimated
+  kInsufficientData,  // too little usable data; `reason` says what is missing
+};
+
+const char* to_string(CalibrationStatus status);
+// Parses "ok" / "insufficient_data"; throws std::invalid_argument otherwise.
+CalibrationStatus calibration_status_from_string(const std::string& text);
+
+// A per-sample series kept for plots, e.g. track heading and device yaw over time.
+struct Series {
+  std::string name;           // e.g. "track_heading"
+  std::string unit;           // e.g. "rad", "m", "1/m"
+  std::vector<double> time;   // [s] on the log's clock; empty when the series is indexed
+  std::vector<double> value;  // same length as `time` (or any length when `time` is empty)
+};
+
+struct CalibrationResult {
+  std::string sensor;  // "ins", "lidar", "radar", "camera"
+  std::string method;  // e.g. "track_heading", "velocity", "position"; empty when there is one
+  CalibrationStatus status = CalibrationStatus::kInsufficientData;
+  std::string reason;  // why the status is not ok, or a note on how the result was chosen
+
+  // Mounting angles of vehicle_from_sensor [rad]; absent when the method cannot observe them.
+  std::optional<double> roll;
+  std::optional<double> pitch;
+  std::optional<double> yaw;
+  // Translation parts of vehicle_from_sensor [m] that the method knows (LiDAR: z).
+  std::optional<double> x;
+  std::optional<double> y;
+  std::optional<double> z;
+
+  // Standard error of each estimated angle [rad] and of z [m].
+  std::optional<double> roll_std;
+  std::optional<double> pitch_std;
+  std::optional<double> yaw_std;
+  std::optional<double> z_std;
+
+  // What supported the estimate, e.g. {"samples": 5210, "segments": 7}.
+  std::map<std::string, std::int64_t> support;
+  // What was left out and why, e.g. {"slow": 1200, "curved": 830, "outlier": 12}.
+  std::map<std::string, std::int64_t> rejections;
+  std::vector<Series> series;
+
+  double seconds = 0.0;  // wall time the calibration took [s]
+
+  bool ok() const { return status == CalibrationStatus::kOk; }
+  // The estimated angles with unobserved ones as 0; only meaningful when ok().
+  EulerAngles angles_or_zero() const;
+};
+
+// A result that says why it could not be computed.
+CalibrationResult insufficient_data(std::string sensor, std::string reason);
+
+}  // namespace x2car
