@@ -12,22 +12,25 @@ Eigen::Matrix3d rotation_from_euler(const EulerAngles& angles) {
 }
 
 EulerAngles euler_from_rotation(const Eigen::Matrix3d& rotation) {
-  // R = Rz(y) Ry(p) Rx(r):  R(2,0) = -sin p,  R(2,1) = cos p sin r,  R(2,2) = cos p cos r,
-  //                         R(1,0) = sin y cos p,  R(0,0) = cos y cos p.
+  // R = Rz(y) Ry(p) Rx(r):  R(2,0) = -sin p,  R(1,0) = sin y cos p,  R(0,0) = cos y cos p.
   const double minus_sin_pitch = std::clamp(rotation(2, 0), -1.0, 1.0);
   const double cos_pitch = std::hypot(rotation(0, 0), rotation(1, 0));
   EulerAngles angles;
   angles.pitch = std::atan2(-minus_sin_pitch, cos_pitch);
-  if (cos_pitch > 1e-9) {
-    angles.roll = std::atan2(rotation(2, 1), rotation(2, 2));
-    angles.yaw = std::atan2(rotation(1, 0), rotation(0, 0));
-  } else {
+  if (cos_pitch < 1e-12) {
     // Gimbal lock: only the combination of roll and yaw is defined; put it all into yaw.
     // With roll = 0 the remaining columns give R(0,1) = -sin y and R(1,1) = cos y.
-    angles.roll = 0.0;
-    angles.yaw = std::atan2(-rotation(0, 1), rotation(1, 1));
+    angles.yaw = wrap_angle(std::atan2(-rotation(0, 1), rotation(1, 1)));
+    return angles;
   }
-  angles.roll = wrap_angle(angles.roll);
+  angles.yaw = std::atan2(rotation(1, 0), rotation(0, 0));
+  // Roll from what is left once yaw and pitch are undone, Rx(r) = Ry(-p) Rz(-y) R, rather than
+  // from R(2,1) and R(2,2): near gimbal lock those are tiny and yaw is imprecise, and taking roll
+  // from the remainder makes it absorb the yaw error, so the rotation still round-trips.
+  const Eigen::Matrix3d roll_only =
+      Eigen::AngleAxisd(-angles.pitch, Eigen::Vector3d::UnitY()).toRotationMatrix() *
+      Eigen::AngleAxisd(-angles.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix() * rotation;
+  angles.roll = wrap_angle(std::atan2(roll_only(2, 1), roll_only(1, 1)));
   angles.yaw = wrap_angle(angles.yaw);
   return angles;
 }
