@@ -1,6 +1,7 @@
 # The two commands a newcomer needs: `make demo` and `make test`. PRESET picks the CMake preset
 # (release, debug, asan); `make test PRESET=asan` runs the tests under the sanitizers.
 PRESET ?= release
+MAKEFLAGS += --no-print-directory
 BUILD_DIR := build/$(PRESET)
 X2CAR := $(BUILD_DIR)/apps/x2car/x2car
 

@@ -1,0 +1,143 @@
+// End-to-end tests of the x2car binary: what a user types, what they see, and the exit code.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace x2car::cli {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::Not;
+
+struct CliRun {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+CliRun run_x2car(const std::string& arguments) {
+  const std::string command = std::string(X2CAR_BINARY) + " " + arguments + " 2>&1";
+  CliRun run;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return run;
+  std::array<char, 4096> buffer{};
+  while (const std::size_t read = fread(buffer.data(), 1, buffer.size(), pipe)) {
+    run.output.append(buffer.data(), read);
+  }
+  const int status = pclose(pipe);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+std::filesystem::path write_temp_file(const std::string& name, const std::string& text) {
+  const auto path = std::filesystem::path(::testing::TempDir()) / name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(Cli, HelpListsTheWorkingSubcommands) {
+  const CliRun run = run_x2car("--help");
+  EXPECT_EQ(run.exit_code, 0);
+  EXPECT_THAT(run.output, HasSubstr("convert"));
+  EXPECT_THAT(run.output, HasSubstr("Exit codes"));
+}
+
+TEST(Cli, VersionPrintsTheVersion) {
+  const CliRun run = run_x2car("--version");
+  EXPECT_EQ(run.exit_code, 0);
+  EXPECT_THAT(run.output, HasSubstr("x2car 0."));
+}
+
+TEST(Cli, UsageErrorsExitWithTwo) {
+  EXPECT_EQ(run_x2car("").exit_code, 2);
+  EXPECT_EQ(run_x2car("no-such-subcommand").exit_code, 2);
+  EXPECT_EQ(run_x2car("convert --to no-such-form 1 2 3 4 5 6 7").exit_code, 2);
+}
+
+TEST(Convert, YawOfTwoDegreesGivesTheExpectedMatrix) {
+  const CliRun run = run_x2car("convert --from xyzrpy-deg --to matrix 0 0 0 0 0 2");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  double m[16];
+  ASSERT_EQ(std::sscanf(run.output.c_str(), "%lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf",
+                        &m[0], &m[1], &m[2], &m[3], &m[4], &m[5], &m[6], &m[7], &m[8], &m[9],
+                        &m[10], &m[11], &m[12], &m[13], &m[14], &m[15]),
+            16)
+      << run.output;
+  const double yaw = 2.0 * M_PI / 180.0;
+  EXPECT_NEAR(m[0], std::cos(yaw), 1e-12);
+  EXPECT_NEAR(m[4], std::sin(yaw), 1e-12);  // R(1,0) > 0: the sensor's x axis turned left
+  EXPECT_NEAR(m[15], 1.0, 1e-15);
+}
+
+TEST(Convert, NegativeNumbersAndRoundTripThroughEveryForm) {
+  const CliRun to_quaternion =
+      run_x2car("convert --from xyzrpy-deg --to quaternion -- 1.5 -0.2 1.9 -0.5 1.25 -3");
+  ASSERT_EQ(to_quaternion.exit_code, 0) << to_quaternion.output;
+  const auto quaternion_file = write_temp_file("extrinsic_quaternion.txt", to_quaternion.output);
+  const CliRun back = run_x2car("convert --input " + quaternion_file.string() + " --to xyzrpy-deg");
+  ASSERT_EQ(back.exit_code, 0) << back.output;
+  double v[6];
+  ASSERT_EQ(std::sscanf(back.output.c_str(), "%lf %lf %lf %lf %lf %lf", &v[0], &v[1], &v[2], &v[3],
+                        &v[4], &v[5]),
+            6)
+      << back.output;
+  const double expected[6] = {1.5, -0.2, 1.9, -0.5, 1.25, -3};
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(v[i], expected[i], 1e-9) << "value " << i;
+}
+
+TEST(Convert, AllPrintsEveryForm) {
+  const CliRun run = run_x2car("convert --from xyzrpy-rad --child lidar -- 1 0 1.8 0.01 -0.02 0.03");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  for (const char* form : {"xyzrpy-deg", "xyzrpy-rad", "matrix", "quaternion", "urdf", "autoware",
+                           "reference", "base_link from lidar", "<joint", "Extrinsic:"}) {
+    EXPECT_THAT(run.output, HasSubstr(form));
+  }
+}
+
+TEST(Convert, ReadsTheReferenceToolsText) {
+  const auto path = write_temp_file(
+      "reference_extrinsic.txt",
+      "Extrinsic:\n[0.999391,-0.0348995,0,0],[0.0348995,0.999391,0,0],[0,0,1,1.8],[0,0,0,1]\n");
+  const CliRun run = run_x2car("convert --input " + path.string() + " --to xyzrpy-deg");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  double v[6];
+  ASSERT_EQ(std::sscanf(run.output.c_str(), "%lf %lf %lf %lf %lf %lf", &v[0], &v[1], &v[2], &v[3],
+                        &v[4], &v[5]),
+            6);
+  EXPECT_NEAR(v[2], 1.8, 1e-12);
+  EXPECT_NEAR(v[5], 2.0, 1e-4);  // 6-digit input
+}
+
+TEST(Convert, InvertSwapsTheFrames) {
+  const CliRun run = run_x2car("convert --from xyzrpy-deg --child lidar --invert --to urdf 1 0 2 0 0 90");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("<parent link=\"lidar\""));
+  EXPECT_THAT(run.output, HasSubstr("<child link=\"base_link\""));
+}
+
+TEST(Convert, SixNumbersWithoutAUnitAskForOne) {
+  const CliRun run = run_x2car("convert 0 0 0 0 0 2");
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_THAT(run.output, HasSubstr("xyzrpy-deg"));
+}
+
+TEST(Convert, BadInputNamesTheFileAndExitsWithTwo) {
+  const CliRun missing = run_x2car("convert --input /no/such/extrinsic.txt");
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_THAT(missing.output, HasSubstr("/no/such/extrinsic.txt"));
+
+  const auto path = write_temp_file("bad_matrix.txt", "1 0 0 0\n0 1 0 0\n0 0 x 0\n0 0 0 1\n");
+  const CliRun bad = run_x2car("convert --from matrix --input " + path.string());
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_THAT(bad.output, HasSubstr(path.string() + ":3"));
+  EXPECT_THAT(bad.output, Not(HasSubstr("unexpected failure")));
+}
+
+}  // namespace
+}  // namespace x2car::cli

@@ -1,0 +1,12 @@
+// The process exit codes of the x2car CLI (DESIGN §6).
+#pragma once
+
+namespace x2car::cli {
+
+enum ExitCode : int {
+  kExitOk = 0,                // a result was produced
+  kExitInsufficientData = 1,  // the input was read but holds too little usable data
+  kExitUsageOrInputError = 2, // bad arguments, or a file that cannot be read or parsed
+};
+
+}  // namespace x2car::cli

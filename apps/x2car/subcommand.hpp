@@ -1,0 +1,26 @@
+// The subcommand table: each subcommand lives in its own file and registers itself here by one
+// entry. Only working subcommands are listed.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <span>
+
+namespace x2car::cli {
+
+// Runs the subcommand after parsing and returns its exit code (exit_codes.hpp).
+using RunCommand = std::function<int()>;
+
+struct Subcommand {
+  const char* name;
+  const char* summary;  // one line for `x2car --help`
+  // Adds the subcommand's options to `command` and returns the function that runs it with them.
+  RunCommand (*setup)(CLI::App& command);
+};
+
+std::span<const Subcommand> subcommand_table();
+
+// One entry per file: convert_command.cpp, ...
+RunCommand setup_convert_command(CLI::App& command);
+
+}  // namespace x2car::cli
