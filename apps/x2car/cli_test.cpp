@@ -64,9 +64,10 @@ TEST(Convert, YawOfTwoDegreesGivesTheExpectedMatrix) {
   const CliRun run = run_x2car("convert --from xyzrpy-deg --to matrix 0 0 0 0 0 2");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   double m[16];
-  ASSERT_EQ(std::sscanf(run.output.c_str(), "%lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf",
-                        &m[0], &m[1], &m[2], &m[3], &m[4], &m[5], &m[6], &m[7], &m[8], &m[9],
-                        &m[10], &m[11], &m[12], &m[13], &m[14], &m[15]),
+  ASSERT_EQ(std::sscanf(run.output.c_str(),
+                        "%lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf %lf", &m[0],
+                        &m[1], &m[2], &m[3], &m[4], &m[5], &m[6], &m[7], &m[8], &m[9], &m[10],
+                        &m[11], &m[12], &m[13], &m[14], &m[15]),
             16)
       << run.output;
   const double yaw = 2.0 * M_PI / 180.0;
@@ -92,7 +93,8 @@ TEST(Convert, NegativeNumbersAndRoundTripThroughEveryForm) {
 }
 
 TEST(Convert, AllPrintsEveryForm) {
-  const CliRun run = run_x2car("convert --from xyzrpy-rad --child lidar -- 1 0 1.8 0.01 -0.02 0.03");
+  const CliRun run =
+      run_x2car("convert --from xyzrpy-rad --child lidar -- 1 0 1.8 0.01 -0.02 0.03");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   for (const char* form : {"xyzrpy-deg", "xyzrpy-rad", "matrix", "quaternion", "urdf", "autoware",
                            "reference", "base_link from lidar", "<joint", "Extrinsic:"}) {
@@ -115,7 +117,8 @@ TEST(Convert, ReadsTheReferenceToolsText) {
 }
 
 TEST(Convert, InvertSwapsTheFrames) {
-  const CliRun run = run_x2car("convert --from xyzrpy-deg --child lidar --invert --to urdf 1 0 2 0 0 90");
+  const CliRun run =
+      run_x2car("convert --from xyzrpy-deg --child lidar --invert --to urdf 1 0 2 0 0 90");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_THAT(run.output, HasSubstr("<parent link=\"lidar\""));
   EXPECT_THAT(run.output, HasSubstr("<child link=\"base_link\""));

@@ -131,12 +131,15 @@ RunCommand setup_convert_command(CLI::App& command) {
   std::vector<std::string> to_names = format_names;
   to_names.insert(to_names.begin(), "all");
 
-  command.add_option("values", arguments->values,
-                     "The extrinsic as numbers on the command line, e.g. 1.2 0 1.8 0.5 -1 2")
+  command
+      .add_option("values", arguments->values,
+                  "The extrinsic as numbers on the command line, e.g. 1.2 0 1.8 0.5 -1 2")
       ->type_name("NUMBER");
-  command.add_option("-i,--input", arguments->input_path, "Read the extrinsic from FILE ('-': stdin)")
+  command
+      .add_option("-i,--input", arguments->input_path, "Read the extrinsic from FILE ('-': stdin)")
       ->type_name("FILE");
-  command.add_option("--from", arguments->from, "Form of the input; auto recognises all but xyzrpy")
+  command
+      .add_option("--from", arguments->from, "Form of the input; auto recognises all but xyzrpy")
       ->type_name("FORM")
       ->check(CLI::IsMember(from_names))
       ->capture_default_str();
@@ -146,8 +149,9 @@ RunCommand setup_convert_command(CLI::App& command) {
       ->capture_default_str();
   command.add_option("--parent", arguments->parent_frame, "Parent frame name (default base_link)")
       ->type_name("NAME");
-  command.add_option("--child", arguments->child_frame,
-                     "Child frame name; picks the sensor in URDF/YAML files that hold several")
+  command
+      .add_option("--child", arguments->child_frame,
+                  "Child frame name; picks the sensor in URDF/YAML files that hold several")
       ->type_name("NAME");
   command.add_flag("--invert", arguments->invert, "Write child_from_parent instead");
   command.add_option("-o,--out", arguments->output_path, "Write to FILE instead of stdout")

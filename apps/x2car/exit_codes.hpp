@@ -4,9 +4,9 @@
 namespace x2car::cli {
 
 enum ExitCode : int {
-  kExitOk = 0,                // a result was produced
-  kExitInsufficientData = 1,  // the input was read but holds too little usable data
-  kExitUsageOrInputError = 2, // bad arguments, or a file that cannot be read or parsed
+  kExitOk = 0,                 // a result was produced
+  kExitInsufficientData = 1,   // the input was read but holds too little usable data
+  kExitUsageOrInputError = 2,  // bad arguments, or a file that cannot be read or parsed
 };
 
 }  // namespace x2car::cli

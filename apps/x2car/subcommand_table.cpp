@@ -1,15 +1,16 @@
-#include "apps/x2car/subcommand.hpp"
-
 #include <array>
+
+#include "apps/x2car/subcommand.hpp"
 
 namespace x2car::cli {
 
 std::span<const Subcommand> subcommand_table() {
   static constexpr std::array kSubcommands = {
-      Subcommand{"convert",
-                 "Convert an extrinsic between xyz+rpy, 4x4 matrix, quaternion, URDF, Autoware YAML "
-                 "and the reference tool's text",
-                 &setup_convert_command},
+      Subcommand{
+          "convert",
+          "Convert an extrinsic between xyz+rpy, 4x4 matrix, quaternion, URDF, Autoware YAML "
+          "and the reference tool's text",
+          &setup_convert_command},
   };
   return kSubcommands;
 }

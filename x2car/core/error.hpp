@@ -13,7 +13,8 @@ class InputError : public std::runtime_error {
  public:
   // `line` is 1-based; 0 means the message is about the whole file. `field` may be empty.
   InputError(std::string file, std::size_t line, std::string field, const std::string& message);
-  InputError(std::string file, const std::string& message) : InputError(std::move(file), 0, {}, message) {}
+  InputError(std::string file, const std::string& message)
+      : InputError(std::move(file), 0, {}, message) {}
 
   const std::string& file() const { return file_; }
   std::size_t line() const { return line_; }

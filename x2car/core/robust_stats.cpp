@@ -136,9 +136,8 @@ double bootstrap_standard_error(std::span<const double> values, std::span<const 
       if (!weights.empty()) resampled_weights[i] = weights[pick];
     }
     // A resample may put all weight on zero-weight entries; such a draw carries no information.
-    if (!weights.empty() &&
-        std::all_of(resampled_weights.begin(), resampled_weights.end(),
-                    [](double weight) { return weight == 0.0; })) {
+    if (!weights.empty() && std::all_of(resampled_weights.begin(), resampled_weights.end(),
+                                        [](double weight) { return weight == 0.0; })) {
       continue;
     }
     const double deviation = statistic(resampled_values, resampled_weights) - full_sample;

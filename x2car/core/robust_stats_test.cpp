@@ -84,7 +84,8 @@ TEST(Bootstrap, MatchesTheAnalyticStandardErrorOfTheMean) {
   const auto mean = [](std::span<const double> v, std::span<const double> w) {
     return weighted_mean(v, w);
   };
-  const double bootstrap = bootstrap_standard_error(values, {}, mean, {.resamples = 2000, .seed = 3});
+  const double bootstrap =
+      bootstrap_standard_error(values, {}, mean, {.resamples = 2000, .seed = 3});
   const double analytic = standard_deviation(values) / std::sqrt(400.0);
   // 2000 resamples estimate the SE to about 1/sqrt(2 * 2000) = 1.6 %; allow 8 %.
   EXPECT_NEAR(bootstrap / analytic, 1.0, 0.08);

@@ -70,7 +70,8 @@ Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& matrix) {
 bool is_rotation(const Eigen::Matrix3d& matrix, double tolerance) {
   if (!matrix.allFinite()) return false;
   const bool orthonormal =
-      (matrix.transpose() * matrix - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= tolerance;
+      (matrix.transpose() * matrix - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <=
+      tolerance;
   return orthonormal && std::abs(matrix.determinant() - 1.0) <= tolerance;
 }
 

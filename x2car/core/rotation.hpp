@@ -42,7 +42,8 @@ Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& matrix);
 bool is_rotation(const Eigen::Matrix3d& matrix, double tolerance = 1e-6);
 
 // Builds a rigid transform target_from_source from a rotation and a translation [m].
-Eigen::Isometry3d make_transform(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation);
+Eigen::Isometry3d make_transform(const Eigen::Matrix3d& rotation,
+                                 const Eigen::Vector3d& translation);
 Eigen::Isometry3d make_transform(const EulerAngles& angles, const Eigen::Vector3d& translation);
 
 // ---- plain angles -------------------------------------------------------------------------
@@ -64,8 +65,7 @@ double angle_difference(double a, double b);
 double circular_mean(std::span<const double> angles, std::span<const double> weights = {});
 
 // Mean resultant length in [0, 1]: 1 when all angles agree, near 0 when they spread around.
-double mean_resultant_length(std::span<const double> angles,
-                             std::span<const double> weights = {});
+double mean_resultant_length(std::span<const double> angles, std::span<const double> weights = {});
 
 // ---- conversions between the reported azimuth and the ENU heading -------------------------
 

@@ -39,7 +39,8 @@ TEST(EulerAngles, ComposeAsZYXIntrinsic) {
 
 TEST(EulerAngles, RoundTripOnAGrid) {
   // Every combination of roll/yaw over the whole circle and pitch up to 1e-7 deg from gimbal lock.
-  const std::vector<double> pitches_deg = {-90 + 1e-7, -89.99, -60, -3, 0, 0.01, 45, 89.9, 90 - 1e-7};
+  const std::vector<double> pitches_deg = {-90 + 1e-7, -89.99, -60,  -3,       0,
+                                           0.01,       45,     89.9, 90 - 1e-7};
   int checked = 0;
   for (double roll_deg = -179.0; roll_deg <= 180.0; roll_deg += 17.0) {
     for (const double pitch_deg : pitches_deg) {
@@ -91,7 +92,7 @@ TEST(SignCheck, PositivePitchTiltsTheSensorXAxisDown) {
 
 TEST(SignCheck, PositiveRollLowersTheSensorRightSide) {
   const Eigen::Matrix3d vehicle_from_sensor = rotation_from_euler({rad_from_deg(3.0), 0, 0});
-  EXPECT_GT(vehicle_from_sensor.col(1).z(), 0.0);   // the left axis rises...
+  EXPECT_GT(vehicle_from_sensor.col(1).z(), 0.0);     // the left axis rises...
   EXPECT_LT((-vehicle_from_sensor.col(1)).z(), 0.0);  // ...so the right side goes down
 }
 
@@ -99,7 +100,8 @@ TEST(SignCheck, LidarPitchedDownSeesTheGroundNormalTiltedTowardsMinusX) {
   const double pitch = rad_from_deg(2.5);
   const double roll = rad_from_deg(-1.5);
   const Eigen::Matrix3d vehicle_from_lidar = rotation_from_euler({roll, pitch, rad_from_deg(4.0)});
-  const Eigen::Vector3d ground_normal_in_lidar = vehicle_from_lidar.transpose() * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d ground_normal_in_lidar =
+      vehicle_from_lidar.transpose() * Eigen::Vector3d::UnitZ();
   EXPECT_LT(ground_normal_in_lidar.x(), 0.0);
   // The ground-plane formulas of the LiDAR method recover both angles exactly.
   EXPECT_NEAR(std::asin(-ground_normal_in_lidar.x()), pitch, 1e-15);
@@ -199,10 +201,10 @@ TEST(CircularMean, RejectsInputWithoutAMean) {
 }
 
 TEST(Azimuth, ConvertsToEnuHeading) {
-  EXPECT_NEAR(heading_enu_from_azimuth(0.0), kPi / 2, 1e-15);           // north
-  EXPECT_NEAR(heading_enu_from_azimuth(kPi / 2), 0.0, 1e-15);           // east
-  EXPECT_NEAR(heading_enu_from_azimuth(kPi), -kPi / 2, 1e-15);          // south
-  EXPECT_NEAR(heading_enu_from_azimuth(-kPi / 2), kPi, 1e-15);          // west
+  EXPECT_NEAR(heading_enu_from_azimuth(0.0), kPi / 2, 1e-15);   // north
+  EXPECT_NEAR(heading_enu_from_azimuth(kPi / 2), 0.0, 1e-15);   // east
+  EXPECT_NEAR(heading_enu_from_azimuth(kPi), -kPi / 2, 1e-15);  // south
+  EXPECT_NEAR(heading_enu_from_azimuth(-kPi / 2), kPi, 1e-15);  // west
   EXPECT_NEAR(azimuth_from_heading_enu(heading_enu_from_azimuth(0.7)), 0.7, 1e-15);
 }
 

@@ -56,8 +56,8 @@ TEST(Segmentation, FindsTheStraightMovingRuns) {
 
 TEST(Segmentation, TrimsRunEndsAndDropsWhatBecomesTooShort) {
   const ConstructedTrack track = make_track();
-  const Segmentation segmentation = segment_runs(
-      track.times, track.speeds, track.curvatures, {.min_duration_s = 12.0, .end_trim_s = 1.0});
+  const Segmentation segmentation = segment_runs(track.times, track.speeds, track.curvatures,
+                                                 {.min_duration_s = 12.0, .end_trim_s = 1.0});
   // Trimming 1 s off both ends leaves 6-18.9 s (12.9 s, kept), 30-38.9 s (8.9 s, dropped) and
   // 43-58.9 s (15.9 s, kept).
   ASSERT_EQ(segmentation.segments.size(), 2u);
@@ -82,7 +82,8 @@ TEST(Segmentation, RejectsBadArguments) {
   const std::vector<double> times = {0, 1};
   const std::vector<double> short_list = {1};
   EXPECT_THROW(segment_runs(times, short_list, times), std::invalid_argument);
-  EXPECT_THROW(segment_runs(times, times, times, {.max_abs_curvature = 0.0}), std::invalid_argument);
+  EXPECT_THROW(segment_runs(times, times, times, {.max_abs_curvature = 0.0}),
+               std::invalid_argument);
 }
 
 }  // namespace

@@ -11,7 +11,8 @@ namespace x2car::testing {
 
 // Matches a rotation matrix within `tolerance_deg` [deg] of `expected` (angle of the difference).
 MATCHER_P2(RotationNear, expected, tolerance_deg,
-           "is a rotation within " + ::testing::PrintToString(tolerance_deg) + " deg of the expected") {
+           "is a rotation within " + ::testing::PrintToString(tolerance_deg) +
+               " deg of the expected") {
   const double error_deg = deg_from_rad(angle_between(arg, expected));
   *result_listener << "differs by " << error_deg << " deg";
   return error_deg <= tolerance_deg;

@@ -31,8 +31,9 @@ Trajectory::Trajectory(std::vector<StampedPose> poses) : poses_(std::move(poses)
 
 std::optional<Eigen::Isometry3d> Trajectory::pose_at(double time) const {
   if (poses_.empty() || !(time >= start_time() && time <= end_time())) return std::nullopt;
-  const auto after = std::lower_bound(poses_.begin(), poses_.end(), time,
-                                      [](const StampedPose& pose, double t) { return pose.time < t; });
+  const auto after =
+      std::lower_bound(poses_.begin(), poses_.end(), time,
+                       [](const StampedPose& pose, double t) { return pose.time < t; });
   if (after->time == time) return after->world_from_body;
   const auto before = std::prev(after);
   const double fraction = (time - before->time) / (after->time - before->time);

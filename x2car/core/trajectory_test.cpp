@@ -23,7 +23,8 @@ TEST(Trajectory, InterpolatesPositionLinearlyAndRotationBySlerp) {
   ASSERT_TRUE(pose.has_value());
   EXPECT_TRUE(pose->translation().isApprox(Eigen::Vector3d(1, -0.5, 0.25), 1e-12));
   // Slerp about one axis turns at a constant rate: a quarter of the way is a quarter of the angle.
-  EXPECT_THAT(Eigen::Matrix3d(pose->linear()), RotationNear(rotation_from_euler({0, 0, 0.25}), 1e-9));
+  EXPECT_THAT(Eigen::Matrix3d(pose->linear()),
+              RotationNear(rotation_from_euler({0, 0, 0.25}), 1e-9));
 }
 
 TEST(Trajectory, ReturnsTheStoredPoseAtItsTimeAndNothingOutside) {
