@@ -1,0 +1,369 @@
+#include "x2car/io/extrinsic_formats.hpp"
+
+#include <fmt/format.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "x2car/core/error.hpp"
+#include "x2car/core/rotation.hpp"
+
+namespace x2car::io {
+namespace {
+
+using ::testing::HasSubstr;
+
+constexpr double kExact = 1e-12;
+
+Extrinsic sample_extrinsic() {
+  Extrinsic extrinsic;
+  extrinsic.parent_frame = "base_link";
+  extrinsic.child_frame = "lidar_top";
+  extrinsic.parent_from_child =
+      make_transform(EulerAngles{0.1, -0.2, 2.5}, Eigen::Vector3d(1.25, -0.3, 1.8));
+  return extrinsic;
+}
+
+void expect_same_transform(const Eigen::Isometry3d& actual, const Eigen::Isometry3d& expected,
+                           double tolerance = kExact) {
+  EXPECT_LE((actual.matrix() - expected.matrix()).cwiseAbs().maxCoeff(), tolerance)
+      << "actual\n"
+      << actual.matrix() << "\nexpected\n"
+      << expected.matrix();
+}
+
+// Runs `parse` and returns the InputError it must throw.
+template <typename Parse>
+InputError input_error_of(Parse parse) {
+  try {
+    parse();
+  } catch (const InputError& error) {
+    return error;
+  }
+  ADD_FAILURE() << "no InputError thrown";
+  return InputError("", "");
+}
+
+// ---- every writer reads back ------------------------------------------------------------------
+
+class EveryFormat : public ::testing::TestWithParam<ExtrinsicFormat> {};
+
+TEST_P(EveryFormat, WriterOutputReadsBackToTheSameTransform) {
+  const Extrinsic original = sample_extrinsic();
+  const std::string text = format_extrinsic(original, GetParam());
+  const Extrinsic read = parse_extrinsic(text, GetParam(), "test");
+  expect_same_transform(read.parent_from_child, original.parent_from_child);
+}
+
+TEST_P(EveryFormat, NameConvertsBothWays) {
+  EXPECT_EQ(extrinsic_format_from_string(to_string(GetParam())), GetParam());
+}
+
+TEST_P(EveryFormat, DetectionRecognisesTheWrittenForm) {
+  const std::string text = format_extrinsic(sample_extrinsic(), GetParam());
+  const bool is_xyzrpy =
+      GetParam() == ExtrinsicFormat::kXyzRpyDeg || GetParam() == ExtrinsicFormat::kXyzRpyRad;
+  // Six numbers are ambiguous: degrees or radians is the caller's question to ask.
+  const std::optional<ExtrinsicFormat> expected =
+      is_xyzrpy ? std::nullopt : std::optional(GetParam());
+  EXPECT_EQ(detect_extrinsic_format(text), expected) << text;
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, EveryFormat,
+                         ::testing::Values(ExtrinsicFormat::kXyzRpyDeg, ExtrinsicFormat::kXyzRpyRad,
+                                           ExtrinsicFormat::kMatrix, ExtrinsicFormat::kQuaternion,
+                                           ExtrinsicFormat::kUrdf, ExtrinsicFormat::kAutoware,
+                                           ExtrinsicFormat::kReference),
+                         [](const auto& info) {
+                           std::string name = to_string(info.param);
+                           std::erase(name, '-');
+                           return name;
+                         });
+
+TEST(ExtrinsicFormatNames, UnknownNameListsTheValidOnes) {
+  try {
+    extrinsic_format_from_string("yaml");
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_THAT(error.what(), HasSubstr("xyzrpy-deg"));
+    EXPECT_THAT(error.what(), HasSubstr("autoware"));
+  }
+  EXPECT_EQ(extrinsic_format_names().size(), 7u);
+}
+
+TEST(ExtrinsicFormats, FramedFormatsKeepTheFrameNames) {
+  const Extrinsic original = sample_extrinsic();
+  for (const ExtrinsicFormat format : {ExtrinsicFormat::kUrdf, ExtrinsicFormat::kAutoware}) {
+    const Extrinsic read = parse_extrinsic(format_extrinsic(original, format), format, "test");
+    EXPECT_EQ(read.parent_frame, "base_link") << to_string(format);
+    EXPECT_EQ(read.child_frame, "lidar_top") << to_string(format);
+  }
+}
+
+// ---- conventions: signs and units -------------------------------------------------------------
+
+TEST(ExtrinsicFormats, YawPlusTwoDegreesGivesPositiveSineBelowTheDiagonal) {
+  const Extrinsic yawed = parse_xyzrpy("0 0 0 0 0 2", AngleUnit::kDegrees, "test");
+  const Extrinsic matrix = parse_matrix(format_matrix(yawed), "test");
+  const double sin2 = std::sin(rad_from_deg(2.0));
+  EXPECT_NEAR(matrix.parent_from_child.linear()(1, 0), sin2, kExact);
+  EXPECT_NEAR(matrix.parent_from_child.linear()(0, 1), -sin2, kExact);
+  EXPECT_NEAR(euler_from_rotation(matrix.parent_from_child.linear()).yaw, rad_from_deg(2.0),
+              kExact);
+}
+
+TEST(ExtrinsicFormats, DegreesAndRadiansDescribeTheSameRotation) {
+  const Extrinsic in_degrees = parse_xyzrpy("1 2 3 10 -20 30", AngleUnit::kDegrees, "test");
+  const std::string radians =
+      fmt::format("1 2 3 {} {} {}", rad_from_deg(10.0), rad_from_deg(-20.0), rad_from_deg(30.0));
+  const Extrinsic in_radians = parse_xyzrpy(radians, AngleUnit::kRadians, "test");
+  expect_same_transform(in_degrees.parent_from_child, in_radians.parent_from_child);
+  EXPECT_EQ(in_degrees.parent_from_child.translation(), Eigen::Vector3d(1, 2, 3));
+}
+
+TEST(ExtrinsicFormats, ReferenceTextWithSixDigitsReads) {
+  const Extrinsic read = parse_reference(
+      "calibration done\nExtrinsic:\n[0.999391,-0.0348995,0,0.5],[0.0348995,0.999391,0,0],"
+      "[0,0,1,1.7],[0,0,0,1]\n",
+      "reference.txt");
+  EXPECT_NEAR(euler_from_rotation(read.parent_from_child.linear()).yaw, rad_from_deg(2.0), 1e-6);
+  EXPECT_NEAR(read.parent_from_child.translation().z(), 1.7, kExact);
+  EXPECT_TRUE(is_rotation(read.parent_from_child.linear(), 1e-12));
+}
+
+TEST(ExtrinsicFormats, ReferenceSixDigitOutputOfAnyRotationReads) {
+  // The reference writes with the default ostream precision (6 significant digits).
+  for (const EulerAngles angles : {EulerAngles{0.3, -0.7, 2.9}, EulerAngles{-1.1, 0.45, -2.2},
+                                   EulerAngles{0.61, 0.62, 0.63}}) {
+    const Eigen::Matrix4d m = make_transform(angles, Eigen::Vector3d(0.1, 0.2, 0.3)).matrix();
+    std::ostringstream text;
+    text << "Extrinsic:\n";
+    for (int row = 0; row < 4; ++row) {
+      text << (row > 0 ? ",[" : "[") << m(row, 0) << "," << m(row, 1) << "," << m(row, 2) << ","
+           << m(row, 3) << "]";
+    }
+    const Extrinsic read = parse_reference(text.str(), "reference.txt");
+    EXPECT_LT(angle_between(read.parent_from_child.linear(), m.topLeftCorner<3, 3>()), 1e-5)
+        << text.str();
+  }
+}
+
+// ---- matrix and quaternion input --------------------------------------------------------------
+
+TEST(ParseMatrix, ToleratesBracketsCommasAndComments) {
+  const Extrinsic read = parse_matrix(
+      "# from numpy\n[[1, 0, 0, 0.5],\n [0, 1, 0, -1],\n [0, 0, 1, 2],\n [0, 0, 0, 1]]\n", "m");
+  EXPECT_EQ(read.parent_from_child.translation(), Eigen::Vector3d(0.5, -1, 2));
+  EXPECT_EQ(detect_extrinsic_format("[[1, 0, 0, 0.5], [0, 1, 0, -1], [0, 0, 1, 2], [0, 0, 0, 1]]"),
+            ExtrinsicFormat::kMatrix);
+}
+
+TEST(ParseMatrix, ReOrthonormalisesASlightlyOffRotation) {
+  const Extrinsic read = parse_matrix("1 1e-8 0 0  0 1 0 0  0 0 1 0  0 0 0 1", "m");
+  EXPECT_TRUE(is_rotation(read.parent_from_child.linear(), 1e-14));
+}
+
+TEST(ParseMatrix, RejectsANonRotation) {
+  const InputError error =
+      input_error_of([] { parse_matrix("2 0 0 0  0 1 0 0  0 0 1 0  0 0 0 1", "scaled.txt"); });
+  EXPECT_EQ(error.file(), "scaled.txt");
+  EXPECT_THAT(error.what(), HasSubstr("not a rotation"));
+}
+
+TEST(ParseMatrix, RejectsAWrongLastRow) {
+  const InputError error =
+      input_error_of([] { parse_matrix("1 0 0 0  0 1 0 0  0 0 1 0  0 0 1 1", "m.txt"); });
+  EXPECT_EQ(error.field(), "row 4");
+  EXPECT_THAT(error.what(), HasSubstr("0 0 0 1"));
+}
+
+TEST(ParseMatrix, NamesTheLineAndFieldOfABadNumber) {
+  const InputError error =
+      input_error_of([] { parse_matrix("1 0 0 0\n0 1 x 0\n0 0 1 0\n0 0 0 1\n", "m.txt"); });
+  EXPECT_EQ(error.line(), 2u);
+  EXPECT_EQ(error.field(), "row 2 col 3");
+}
+
+TEST(ParseQuaternion, NormalisesAndRejectsZero) {
+  const Extrinsic read = parse_quaternion("1 2 3 0 0 0 2", "q");
+  expect_same_transform(read.parent_from_child,
+                        make_transform(Eigen::Matrix3d::Identity(), Eigen::Vector3d(1, 2, 3)));
+  const InputError error = input_error_of([] { parse_quaternion("1 2 3 0 0 0 0", "q.txt"); });
+  EXPECT_EQ(error.field(), "quaternion");
+}
+
+TEST(ParseXyzRpy, CountsAndFieldsAreChecked) {
+  EXPECT_THAT(input_error_of([] { parse_xyzrpy("1 2 3 4 5", AngleUnit::kRadians, "e"); }).what(),
+              HasSubstr("expected 6 numbers"));
+  EXPECT_EQ(input_error_of([] { parse_xyzrpy("1 2 3 4 nan 6", AngleUnit::kRadians, "e"); }).field(),
+            "pitch");
+}
+
+// ---- URDF -------------------------------------------------------------------------------------
+
+TEST(ParseUrdf, ReadsAHandWrittenJoint) {
+  const Extrinsic read = parse_urdf(R"(
+    <!-- <joint name="commented_out" type="fixed"> -->
+    <joint name='lidar_joint' type="fixed">
+      <parent link="base_link"/>
+      <child link="velodyne" />
+      <origin rpy="0 0.0349 0" xyz="1.0 0.0 1.8"/>
+    </joint>)",
+                                    "robot.urdf");
+  EXPECT_EQ(read.parent_frame, "base_link");
+  EXPECT_EQ(read.child_frame, "velodyne");
+  EXPECT_NEAR(read.parent_from_child.translation().z(), 1.8, kExact);
+  EXPECT_NEAR(euler_from_rotation(read.parent_from_child.linear()).pitch, 0.0349, kExact);
+}
+
+TEST(ParseUrdf, MissingOriginIsIdentity) {
+  const Extrinsic read = parse_urdf(
+      "<joint name=\"j\" type=\"fixed\"><parent link=\"a\"/><child link=\"b\"/></joint>", "u");
+  expect_same_transform(read.parent_from_child, Eigen::Isometry3d::Identity(), 0.0);
+}
+
+TEST(ParseUrdf, SeveralJointsNeedAChildName) {
+  const std::string text =
+      "<robot><joint name=\"a\" type=\"fixed\"><parent link=\"base_link\"/><child "
+      "link=\"radar\"/><origin xyz=\"3 0 0.5\"/></joint>\n"
+      "<joint name=\"b\" type=\"fixed\"><parent link=\"base_link\"/><child link=\"camera\"/>"
+      "</joint></robot>";
+  EXPECT_THAT(input_error_of([&] { parse_urdf(text, "u"); }).what(), HasSubstr("radar, camera"));
+  EXPECT_EQ(parse_urdf(text, "u", "radar").parent_from_child.translation().x(), 3.0);
+}
+
+TEST(ParseUrdf, RejectsAMovingJointAndAMissingParent) {
+  EXPECT_EQ(input_error_of([] {
+              parse_urdf(
+                  "<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/>"
+                  "<child link=\"b\"/></joint>",
+                  "u");
+            }).field(),
+            "type");
+  EXPECT_EQ(input_error_of([] {
+              parse_urdf("<joint name=\"j\" type=\"fixed\">\n<child link=\"b\"/></joint>", "u");
+            }).field(),
+            "parent");
+}
+
+// ---- Autoware ---------------------------------------------------------------------------------
+
+constexpr const char* kSensorKit = R"(sensor_kit_base_link:
+  velodyne_top_base_link:
+    x: 0.0
+    y: 0.0
+    z: 0.0
+    roll: 0.01
+    pitch: -0.02
+    yaw: 1.575
+  camera0/camera_link:
+    x: 0.10731
+    y: 0.56343
+    z: -0.27697
+    roll: -0.025
+    pitch: 0.315
+    yaw: 1.035
+)";
+
+TEST(ParseAutoware, PicksTheNamedChild) {
+  const Extrinsic camera = parse_autoware(kSensorKit, "kit.yaml", "camera0/camera_link");
+  EXPECT_EQ(camera.parent_frame, "sensor_kit_base_link");
+  EXPECT_NEAR(camera.parent_from_child.translation().y(), 0.56343, kExact);
+  const EulerAngles angles = euler_from_rotation(camera.parent_from_child.linear());
+  EXPECT_NEAR(angles.pitch, 0.315, kExact);
+  EXPECT_NEAR(angles.yaw, 1.035, kExact);
+  EXPECT_EQ(parse_autoware_all(kSensorKit, "kit.yaml").size(), 2u);
+}
+
+TEST(ParseAutoware, AmbiguousOrAbsentChildListsThePresentOnes) {
+  EXPECT_THAT(input_error_of([] { parse_autoware(kSensorKit, "kit.yaml"); }).what(),
+              HasSubstr("velodyne_top_base_link, camera0/camera_link"));
+  EXPECT_THAT(input_error_of([] { parse_autoware(kSensorKit, "kit.yaml", "radar"); }).what(),
+              HasSubstr("velodyne_top_base_link, camera0/camera_link"));
+}
+
+TEST(ParseAutoware, NamesTheMissingOrBadField) {
+  const InputError missing = input_error_of(
+      [] { parse_autoware("base_link:\n  lidar:\n    x: 1\n    y: 0\n    z: 2\n", "k.yaml"); });
+  EXPECT_EQ(missing.field(), "lidar.roll");
+  const InputError bad = input_error_of([] {
+    parse_autoware(
+        "base_link:\n  lidar:\n    x: 1\n    y: zero\n    z: 2\n    roll: 0\n"
+        "    pitch: 0\n    yaw: 0\n",
+        "k.yaml");
+  });
+  EXPECT_EQ(bad.field(), "lidar.y");
+  EXPECT_EQ(bad.line(), 4u);
+}
+
+TEST(FormatAutoware, SeveralChildrenUnderOneParentReadBack) {
+  Extrinsic radar = sample_extrinsic();
+  radar.child_frame = "radar: front";  // needs quoting in YAML
+  Extrinsic null_named = sample_extrinsic();
+  null_named.child_frame = "null";
+  const std::vector<Extrinsic> written{sample_extrinsic(), radar, null_named};
+  const std::vector<Extrinsic> read = parse_autoware_all(format_autoware(written), "k.yaml");
+  ASSERT_EQ(read.size(), 3u);
+  EXPECT_EQ(read[1].child_frame, "radar: front");
+  EXPECT_EQ(read[2].child_frame, "null");
+  expect_same_transform(read[1].parent_from_child, radar.parent_from_child);
+  radar.parent_frame = "other";
+  EXPECT_THROW(format_autoware(std::vector<Extrinsic>{sample_extrinsic(), radar}),
+               std::invalid_argument);
+}
+
+// ---- detection --------------------------------------------------------------------------------
+
+TEST(DetectExtrinsicFormat, HandWrittenForms) {
+  EXPECT_EQ(detect_extrinsic_format(kSensorKit), ExtrinsicFormat::kAutoware);
+  EXPECT_EQ(detect_extrinsic_format("<joint name=\"j\"/>"), ExtrinsicFormat::kUrdf);
+  EXPECT_EQ(detect_extrinsic_format("Extrinsic:\n[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]"),
+            ExtrinsicFormat::kReference);
+  EXPECT_EQ(detect_extrinsic_format("0 0 0 0 0 0 1"), ExtrinsicFormat::kQuaternion);
+  EXPECT_EQ(detect_extrinsic_format("1 2 3 0 0 2"), std::nullopt);
+  EXPECT_EQ(detect_extrinsic_format("hello: world"), std::nullopt);
+  EXPECT_EQ(detect_extrinsic_format("1 2 3 a b c d"), std::nullopt);
+}
+
+// ---- calibration results ----------------------------------------------------------------------
+
+CalibrationResult yaw_only_result() {
+  CalibrationResult result;
+  result.sensor = "ins";
+  result.status = CalibrationStatus::kOk;
+  result.yaw = rad_from_deg(2.0);
+  return result;
+}
+
+TEST(ResultWriters, UnestimatedPartsAreZeroAndSaidSo) {
+  const CalibrationResult result = yaw_only_result();
+  EXPECT_EQ(unestimated_parts(result), (std::vector<std::string>{"x", "y", "z", "roll", "pitch"}));
+  const std::string yaml = format_result_autoware(result);
+  EXPECT_THAT(yaml, HasSubstr("# x2car did not estimate"));
+  EXPECT_THAT(yaml, HasSubstr("x, y, z, roll, pitch"));
+  const std::string urdf = format_result_urdf(result);
+  EXPECT_THAT(urdf, HasSubstr("<!--"));
+  const std::string reference = format_result_reference(result);
+  for (const auto& [text, format] :
+       {std::pair{yaml, ExtrinsicFormat::kAutoware}, std::pair{urdf, ExtrinsicFormat::kUrdf},
+        std::pair{reference, ExtrinsicFormat::kReference}}) {
+    const Extrinsic read = parse_extrinsic(text, format, "result");
+    expect_same_transform(read.parent_from_child,
+                          make_transform(EulerAngles{0, 0, rad_from_deg(2.0)}, {0, 0, 0}));
+  }
+  EXPECT_EQ(parse_autoware(yaml, "r").child_frame, "ins");
+}
+
+TEST(ResultWriters, InsufficientDataIsAnErrorNotAZeroRotation) {
+  const CalibrationResult result = insufficient_data("lidar", "only 4 s of driving");
+  EXPECT_THROW(format_result_autoware(result), std::invalid_argument);
+  EXPECT_THROW(format_result_urdf(result), std::invalid_argument);
+  EXPECT_THROW(format_result_reference(result), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace x2car::io

@@ -1,0 +1,224 @@
+#include "x2car/io/result_json.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+
+#include "x2car/core/error.hpp"
+#include "x2car/core/rotation.hpp"
+
+namespace x2car::io {
+namespace {
+
+using ::testing::HasSubstr;
+
+constexpr double kExact = 1e-12;
+
+CalibrationResult lidar_result() {
+  CalibrationResult result;
+  result.sensor = "lidar";
+  result.method = "ground_plane+track_heading";
+  result.status = CalibrationStatus::kOk;
+  result.reason = "7 segments agree";
+  result.roll = rad_from_deg(-0.7);
+  result.pitch = rad_from_deg(1.3);
+  result.yaw = rad_from_deg(2.0);
+  result.z = 1.83;
+  result.roll_std = rad_from_deg(0.02);
+  result.pitch_std = rad_from_deg(0.03);
+  result.yaw_std = rad_from_deg(0.1);
+  result.z_std = 0.004;
+  result.support = {{"frames", 1200}, {"segments", 7}};
+  result.rejections = {{"turning", 310}, {"outlier", 2}};
+  result.series = {{"yaw_per_segment", "rad", {0.0, 10.5}, {0.0349, 0.0350}},
+                   {"ground_height", "m", {}, {1.82, std::numeric_limits<double>::quiet_NaN()}}};
+  result.seconds = 3.25;
+  return result;
+}
+
+CalibrationResult ins_result() {
+  CalibrationResult result;
+  result.sensor = "ins";
+  result.status = CalibrationStatus::kOk;
+  result.yaw = rad_from_deg(2.0);
+  result.yaw_std = rad_from_deg(0.05);
+  result.x = 0.5;
+  result.y = -0.25;
+  return result;
+}
+
+void expect_near(const std::optional<double>& actual, const std::optional<double>& expected,
+                 const char* name) {
+  ASSERT_EQ(actual.has_value(), expected.has_value()) << name;
+  if (expected) {
+    EXPECT_NEAR(*actual, *expected, kExact) << name;
+  }
+}
+
+void expect_same_result(const CalibrationResult& actual, const CalibrationResult& expected) {
+  EXPECT_EQ(actual.sensor, expected.sensor);
+  EXPECT_EQ(actual.method, expected.method);
+  EXPECT_EQ(actual.status, expected.status);
+  EXPECT_EQ(actual.reason, expected.reason);
+  expect_near(actual.roll, expected.roll, "roll");
+  expect_near(actual.pitch, expected.pitch, "pitch");
+  expect_near(actual.yaw, expected.yaw, "yaw");
+  expect_near(actual.x, expected.x, "x");
+  expect_near(actual.y, expected.y, "y");
+  expect_near(actual.z, expected.z, "z");
+  expect_near(actual.roll_std, expected.roll_std, "roll_std");
+  expect_near(actual.pitch_std, expected.pitch_std, "pitch_std");
+  expect_near(actual.yaw_std, expected.yaw_std, "yaw_std");
+  expect_near(actual.z_std, expected.z_std, "z_std");
+  EXPECT_EQ(actual.support, expected.support);
+  EXPECT_EQ(actual.rejections, expected.rejections);
+  EXPECT_EQ(actual.seconds, expected.seconds);
+  ASSERT_EQ(actual.series.size(), expected.series.size());
+  for (std::size_t i = 0; i < actual.series.size(); ++i) {
+    EXPECT_EQ(actual.series[i].name, expected.series[i].name);
+    EXPECT_EQ(actual.series[i].unit, expected.series[i].unit);
+    EXPECT_EQ(actual.series[i].time, expected.series[i].time);
+    ASSERT_EQ(actual.series[i].value.size(), expected.series[i].value.size());
+    for (std::size_t k = 0; k < actual.series[i].value.size(); ++k) {
+      const double a = actual.series[i].value[k], e = expected.series[i].value[k];
+      EXPECT_TRUE(a == e || (std::isnan(a) && std::isnan(e))) << a << " vs " << e;
+    }
+  }
+}
+
+InputError input_error_of(const std::string& text) {
+  try {
+    parse_result_json(text, "result.json");
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.file(), "result.json");
+    return error;
+  }
+  ADD_FAILURE() << "no InputError for " << text;
+  return InputError("", "");
+}
+
+TEST(ResultJson, WriterOutputReadsBack) {
+  expect_same_result(parse_result_json(format_result_json(lidar_result()), "r"), lidar_result());
+  expect_same_result(parse_result_json(format_result_json(ins_result()), "r"), ins_result());
+}
+
+TEST(ResultJson, ShapeFollowsTheDesign) {
+  const Json json = result_to_json(lidar_result());
+  EXPECT_EQ(json.at("sensor"), "lidar");
+  EXPECT_EQ(json.at("status"), "ok");
+  EXPECT_NEAR(json.at("yaw_deg").get<double>(), 2.0, kExact);  // degrees, with sign kept
+  EXPECT_NEAR(json.at("pitch_deg").get<double>(), 1.3, kExact);
+  EXPECT_NEAR(json.at("z_m").get<double>(), 1.83, kExact);
+  EXPECT_NEAR(json.at("std_deg").at("yaw").get<double>(), 0.1, kExact);
+  EXPECT_NEAR(json.at("std_deg").at("z_m").get<double>(), 0.004, kExact);
+  EXPECT_EQ(json.at("support").at("segments"), 7);
+  EXPECT_EQ(json.at("rejections").at("turning"), 310);
+  EXPECT_FALSE(json.contains("x_m"));  // only when known
+  EXPECT_TRUE(json.at("series").at(1).at("value").at(1).is_null());
+  EXPECT_EQ(json.begin().key(), "sensor");  // keys in the documented order
+}
+
+TEST(ResultJson, UnobservedAnglesAreNullNeverZero) {
+  const std::string text = format_result_json(ins_result());
+  EXPECT_THAT(text, HasSubstr("\"roll_deg\": null"));
+  EXPECT_THAT(text, HasSubstr("\"pitch_deg\": null"));
+  EXPECT_THAT(text, HasSubstr("\"z_m\": null"));
+  const Json json = Json::parse(text);
+  EXPECT_TRUE(json.at("std_deg").at("roll").is_null());
+  EXPECT_NEAR(json.at("x_m").get<double>(), 0.5, kExact);
+  const CalibrationResult read = parse_result_json(text, "r");
+  EXPECT_FALSE(read.roll.has_value());
+  EXPECT_FALSE(read.pitch.has_value());
+  EXPECT_FALSE(read.z.has_value());
+  EXPECT_FALSE(read.roll_std.has_value());
+}
+
+TEST(ResultJson, InsufficientDataKeepsItsReason) {
+  const CalibrationResult result = insufficient_data("radar", "only 4 s of straight driving");
+  const Json json = result_to_json(result);
+  EXPECT_EQ(json.at("status"), "insufficient_data");
+  EXPECT_TRUE(json.at("yaw_deg").is_null());
+  expect_same_result(result_from_json(json, "r"), result);
+}
+
+TEST(ResultJson, SeriesCanBeOmitted) {
+  ResultJsonOptions options;
+  options.include_series = false;
+  const Json json = result_to_json(lidar_result(), options);
+  EXPECT_FALSE(json.contains("series"));
+  EXPECT_TRUE(result_from_json(json, "r").series.empty());
+}
+
+TEST(ResultJson, NonFiniteEstimateIsABugNotANull) {
+  CalibrationResult result = ins_result();
+  result.yaw = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(result_to_json(result), std::invalid_argument);
+}
+
+TEST(ResultJson, WrongTypesAreRejectedNamingTheField) {
+  const std::string head = R"({"sensor": "ins", "status": "ok", )";
+  EXPECT_EQ(input_error_of(head + R"("yaw_deg": "2"})").field(), "yaw_deg");
+  EXPECT_EQ(input_error_of(head + R"("std_deg": {"roll": true}})").field(), "std_deg.roll");
+  EXPECT_EQ(input_error_of(head + R"("support": {"samples": 1.5}})").field(), "support.samples");
+  EXPECT_EQ(input_error_of(head + R"("series": [{"name": "a", "value": ["x"]}]})").field(),
+            "series[0].value[0]");
+  EXPECT_EQ(
+      input_error_of(head + R"("series": [{"name": "a", "time": [0, 1], "value": [1]}]})").field(),
+      "series[0].value");
+  EXPECT_EQ(input_error_of(R"({"sensor": "ins", "status": "fine"})").field(), "status");
+  EXPECT_EQ(input_error_of(R"({"status": "ok"})").field(), "sensor");
+  EXPECT_EQ(input_error_of(R"({"sensor": 3, "status": "ok"})").field(), "sensor");
+  EXPECT_THAT(input_error_of(head + R"("yaw_deg": "2"})").what(), HasSubstr("found string"));
+  EXPECT_THAT(input_error_of("{\"sensor\": ").what(), HasSubstr("invalid JSON"));
+}
+
+TEST(ResultJson, FileRoundTrip) {
+  const std::filesystem::path path =
+      std::filesystem::path(::testing::TempDir()) / "x2car_result_json_test.json";
+  write_result_json(path, lidar_result());
+  expect_same_result(read_result_json(path), lidar_result());
+  std::filesystem::remove(path);
+}
+
+TEST(ResultsJson, SeveralResultsKeyedBySensor) {
+  const std::vector<CalibrationResult> results{lidar_result(), ins_result()};
+  const Json json = results_to_json(results);
+  EXPECT_TRUE(json.at("lidar").at("roll_deg").is_number());
+  EXPECT_TRUE(json.at("ins").at("roll_deg").is_null());
+  const auto read = parse_results_json(format_results_json(results), "all.json");
+  ASSERT_EQ(read.size(), 2u);
+  expect_same_result(read.at("lidar"), lidar_result());
+  expect_same_result(read.at("ins"), ins_result());
+}
+
+TEST(ResultsJson, SingleResultReadsAsOneEntry) {
+  const auto read = parse_results_json(format_result_json(ins_result()), "ins.json");
+  ASSERT_EQ(read.size(), 1u);
+  expect_same_result(read.at("ins"), ins_result());
+}
+
+TEST(ResultsJson, DuplicatesAndMismatchedKeysAreRejected) {
+  const std::vector<CalibrationResult> twice{ins_result(), ins_result()};
+  EXPECT_THROW(results_to_json(twice), std::invalid_argument);
+  try {
+    parse_results_json(R"({"lidar": {"sensor": "radar", "status": "ok"}})", "all.json");
+    FAIL() << "no exception";
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.field(), "lidar.sensor");
+  }
+  try {
+    parse_results_json(R"({"lidar": {"sensor": "lidar", "status": "ok", "z_m": []}})", "a.json");
+    FAIL() << "no exception";
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.field(), "lidar.z_m");
+  }
+}
+
+}  // namespace
+}  // namespace x2car::io

@@ -1,0 +1,64 @@
+// CalibrationResult <-> JSON in the shape of DESIGN §6:
+//   {"sensor", "status": "ok" | "insufficient_data", "reason", "method",
+//    "roll_deg", "pitch_deg", "yaw_deg", ["x_m", "y_m",] "z_m",
+//    "std_deg": {"roll", "pitch", "yaw"[, "z_m"]}, "support": {...}, "rejections": {...},
+//    "seconds", "series": [{"name", "unit", "time": [...], "value": [...]}]}
+// Radians inside the library, degrees in the JSON. An angle the method cannot observe is null,
+// never 0; "x_m"/"y_m" appear only when known, "z_m" is always present (null when unknown).
+// Series values that are NaN are written as null and read back as NaN.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <nlohmann/json_fwd.hpp>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "x2car/core/calibration_result.hpp"
+
+namespace x2car::io {
+
+// Keys keep the order above, so that a person reading the file finds the angles first.
+using Json = nlohmann::ordered_json;
+
+struct ResultJsonOptions {
+  bool include_series = true;  // the per-sample series make a file large; reports want them
+};
+
+// Throws std::invalid_argument when an estimated value is not finite: writing it as null would
+// read as "not observable", which would hide the bug.
+Json result_to_json(const CalibrationResult& result, const ResultJsonOptions& options = {});
+
+// Throws InputError naming `source_name` and the field (e.g. "std_deg.roll") on a wrong type, an
+// unknown status, a missing "sensor"/"status", or a non-finite number. Unknown keys are ignored.
+CalibrationResult result_from_json(const Json& json, const std::string& source_name);
+
+// Pretty-printed (2-space indent) with a final newline.
+std::string format_result_json(const CalibrationResult& result,
+                               const ResultJsonOptions& options = {});
+CalibrationResult parse_result_json(std::string_view text, const std::string& source_name);
+void write_result_json(const std::filesystem::path& path, const CalibrationResult& result,
+                       const ResultJsonOptions& options = {});
+CalibrationResult read_result_json(const std::filesystem::path& path);
+
+// ---- several results: one object keyed by sensor name (`x2car calibrate all`) ---------------
+
+// Throws std::invalid_argument when a sensor name is empty or appears twice.
+Json results_to_json(std::span<const CalibrationResult> results,
+                     const ResultJsonOptions& options = {});
+// Accepts the keyed object, or a single result object (then one entry). A key must match the
+// "sensor" inside its object.
+std::map<std::string, CalibrationResult> results_from_json(const Json& json,
+                                                           const std::string& source_name);
+
+std::string format_results_json(std::span<const CalibrationResult> results,
+                                const ResultJsonOptions& options = {});
+std::map<std::string, CalibrationResult> parse_results_json(std::string_view text,
+                                                            const std::string& source_name);
+void write_results_json(const std::filesystem::path& path,
+                        std::span<const CalibrationResult> results,
+                        const ResultJsonOptions& options = {});
+std::map<std::string, CalibrationResult> read_results_json(const std::filesystem::path& path);
+
+}  // namespace x2car::io
