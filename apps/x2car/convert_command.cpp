@@ -83,10 +83,6 @@ Extrinsic parse_input(const std::string& text, io::ExtrinsicFormat format,
   return extrinsic;
 }
 
-Extrinsic inverted(const Extrinsic& extrinsic) {
-  return {extrinsic.child_frame, extrinsic.parent_frame, extrinsic.parent_from_child.inverse()};
-}
-
 std::string indented(const std::string& text) {
   std::string result;
   std::istringstream lines(text);
@@ -110,7 +106,7 @@ int run_convert(const ConvertArguments& arguments) {
   const std::string text = read_source_text(arguments);
   const io::ExtrinsicFormat format = resolve_input_format(arguments.from, text, source_name);
   Extrinsic extrinsic = parse_input(text, format, arguments, source_name);
-  if (arguments.invert) extrinsic = inverted(extrinsic);
+  if (arguments.invert) extrinsic = inverse(extrinsic);
   const std::string output = render_output(extrinsic, arguments.to);
   if (arguments.output_path.empty()) {
     std::cout << output;

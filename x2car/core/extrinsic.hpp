@@ -1,4 +1,5 @@
-// A named rigid transform between two frames, e.g. base_link <- lidar (vehicle_from_lidar).
+// A named rigid transform between two frames, e.g. base_link <- lidar (vehicle_from_lidar), and
+// the operations that keep the names honest: composing checks that the frames chain up.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -12,5 +13,12 @@ struct Extrinsic {
   // parent_from_child: p_parent = R * p_child + t  [m]
   Eigen::Isometry3d parent_from_child = Eigen::Isometry3d::Identity();
 };
+
+// child_from_parent, with the frame names swapped.
+Extrinsic inverse(const Extrinsic& parent_from_child);
+
+// a_from_c = a_from_b * b_from_c. Throws std::invalid_argument when a_from_b's child frame is not
+// b_from_c's parent frame, e.g. vehicle_from_lidar * camera_from_lidar.
+Extrinsic compose(const Extrinsic& a_from_b, const Extrinsic& b_from_c);
 
 }  // namespace x2car

@@ -10,8 +10,17 @@
 #include <string>
 #include <utility>
 
+#include "x2car/core/band_matrix.hpp"
+
 namespace x2car {
 namespace {
+
+using detail::band_pattern;
+using detail::BandLdlt;
+using detail::difference_penalty;
+using detail::SparseMatrix;
+using detail::SymmetricBand;
+using detail::trace_of_inverse_times;
 
 constexpr int kMaxDegree = 5;
 // Guards memory against a span / knot spacing that cannot be meant (e.g. times in ns).
@@ -20,25 +29,10 @@ constexpr double kGcvGridStep = 0.5;    // coarse GCV grid step [decades of lamb
 constexpr double kGcvTolerance = 0.01;  // golden-section stopping width [decades]
 constexpr double kGoldenRatio = 0.6180339887498949;
 
-using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
-// NaturalOrdering keeps the band: the LDL' factor of a banded matrix has no fill outside it.
-using BandLdlt = Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::NaturalOrdering<int>>;
-
 template <typename... Args>
 [[noreturn]] void reject(fmt::format_string<Args...> format, Args&&... args) {
   throw std::invalid_argument(fmt::format(format, std::forward<Args>(args)...));
 }
-
-// Symmetric band matrix, lower part stored column by column: (row, col), col <= row <= col + width.
-struct SymmetricBand {
-  int size = 0;
-  int width = 0;
-  std::vector<double> values;
-
-  SymmetricBand(int n, int w) : size(n), width(w), values(std::size_t(n) * (w + 1), 0.0) {}
-  double& at(int row, int col) { return values[std::size_t(col) * (width + 1) + (row - col)]; }
-  double at(int row, int col) const { return values[std::size_t(col) * (width + 1) + (row - col)]; }
-};
 
 // Values of the degree + 1 uniform B-splines that are nonzero on one knot interval, at local
 // position u in [0, 1]: Cox-de Boor recursion (Piegl & Tiller, The NURBS Book, A2.2). On uniform
@@ -89,78 +83,6 @@ int check_samples(std::span<const double> times, std::span<const std::span<const
     reject("P-spline: {} samples with positive weight, need at least {}", positive, min_samples);
   }
   return positive;
-}
-
-// d-th order difference penalty D'D (E&M eq. 5); row r of D holds (-1)^(d-a) binom(d, a) at
-// column r + a.
-SymmetricBand difference_penalty(int size, int order, int width) {
-  std::vector<double> row(order + 1);
-  row[0] = 1.0;
-  for (int q = 1; q <= order; ++q) {  // coefficients of (x - 1)^q by repeated differencing
-    for (int a = q; a >= 1; --a) row[a] = row[a - 1] - row[a];
-    row[0] = -row[0];
-  }
-  SymmetricBand penalty(size, width);
-  for (int r = 0; r + order < size; ++r) {
-    for (int a = 0; a <= order; ++a) {
-      for (int b = a; b <= order; ++b) penalty.at(r + b, r + a) += row[a] * row[b];
-    }
-  }
-  return penalty;
-}
-
-// Sparse lower-triangular band pattern, values set later per lambda. Entry (col, k) of the band
-// sits at valuePtr()[outerIndexPtr()[col] + k].
-SparseMatrix band_pattern(int size, int width) {
-  SparseMatrix matrix(size, size);
-  matrix.reserve(Eigen::VectorXi::Constant(size, width + 1));
-  for (int col = 0; col < size; ++col) {
-    for (int row = col; row <= std::min(col + width, size - 1); ++row) matrix.insert(row, col) = 0;
-  }
-  matrix.makeCompressed();
-  return matrix;
-}
-
-// tr(A^-1 G) for A = L D L' from the entries of Z = A^-1 inside the band only, by the Takahashi
-// recursion (Takahashi, Fagan & Chen 1973; Hutchinson & de Hoog 1985): Z = D^-1 L^-1 + (I - L')Z
-// gives, for i from the last row up and j > i within the band,
-//   Z_ji = -sum_{k>i} L_ki Z_kj,   Z_ii = 1/D_i - sum_{k>i} L_ki Z_ki.
-// Cost O(m * width^2); a dense inverse would be O(m^3).
-double trace_of_inverse_times(const BandLdlt& ldlt, const SymmetricBand& gram) {
-  const int m = gram.size;
-  const int w = gram.width;
-  SymmetricBand lower(m, w);  // unit lower factor L below its diagonal
-  const SparseMatrix& factor = ldlt.matrixL().nestedExpression();
-  for (int col = 0; col < m; ++col) {
-    for (SparseMatrix::InnerIterator it(factor, col); it; ++it) {
-      if (it.row() == col) continue;
-      if (it.row() > col + w) throw std::logic_error("P-spline: LDL' factor left the band");
-      lower.at(int(it.row()), col) = it.value();
-    }
-  }
-  const Eigen::VectorXd& d = ldlt.vectorD();
-  SymmetricBand inverse(m, w);
-  for (int i = m - 1; i >= 0; --i) {
-    const int last = std::min(i + w, m - 1);
-    for (int j = last; j > i; --j) {
-      double sum = 0.0;
-      for (int k = i + 1; k <= last; ++k) {
-        sum += lower.at(k, i) * inverse.at(std::max(k, j), std::min(k, j));
-      }
-      inverse.at(j, i) = -sum;
-    }
-    double sum = 0.0;
-    for (int k = i + 1; k <= last; ++k) sum += lower.at(k, i) * inverse.at(k, i);
-    inverse.at(i, i) = 1.0 / d[i] - sum;
-  }
-  double trace = 0.0;
-  for (int col = 0; col < m; ++col) {
-    trace += inverse.at(col, col) * gram.at(col, col);
-    for (int row = col + 1; row <= std::min(col + w, m - 1); ++row) {
-      trace += 2.0 * inverse.at(row, col) * gram.at(row, col);
-    }
-  }
-  return trace;
 }
 
 }  // namespace

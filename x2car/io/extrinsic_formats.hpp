@@ -6,13 +6,14 @@
 
 #include <Eigen/Geometry>
 #include <optional>
-#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "x2car/core/calibration_result.hpp"
 #include "x2car/core/extrinsic.hpp"
+#include "x2car/io/autoware_yaml.hpp"
+#include "x2car/io/urdf_joint.hpp"
 
 namespace x2car::io {
 
@@ -51,7 +52,8 @@ std::string format_xyzrpy(const Extrinsic& extrinsic, AngleUnit unit);
 Extrinsic parse_xyzrpy(std::string_view text, AngleUnit unit, const std::string& source_name);
 
 // Input tolerates any whitespace, commas, semicolons and brackets. The last row must be 0 0 0 1
-// and the 3x3 block a rotation within 1e-6; it is then re-orthonormalised.
+// and the 3x3 block a rotation within 1e-5 (so that a matrix printed with 6 significant digits,
+// as by Eigen's operator<<, reads); it is then re-orthonormalised.
 std::string format_matrix(const Extrinsic& extrinsic);
 Extrinsic parse_matrix(std::string_view text, const std::string& source_name);
 
@@ -59,24 +61,10 @@ Extrinsic parse_matrix(std::string_view text, const std::string& source_name);
 std::string format_quaternion(const Extrinsic& extrinsic);
 Extrinsic parse_quaternion(std::string_view text, const std::string& source_name);
 
-// A fixed joint named "<child>_joint". On input, XML comments are ignored, a missing <origin> or
-// attribute is zero (URDF's default), and when the text holds several joints `child_link` picks
-// one (the error lists them otherwise).
-std::string format_urdf(const Extrinsic& extrinsic);
-Extrinsic parse_urdf(std::string_view text, const std::string& source_name,
-                     const std::optional<std::string>& child_link = std::nullopt);
+// The URDF and Autoware forms: urdf_joint.hpp and autoware_yaml.hpp, included above.
 
-// Metres and radians. Several children may share the parent; `child_frame` picks one (the error
-// lists the children present when it is needed and missing, or names an absent one).
-std::string format_autoware(const Extrinsic& extrinsic);
-// All extrinsics must share one parent frame and have distinct children (std::invalid_argument).
-std::string format_autoware(std::span<const Extrinsic> extrinsics);
-Extrinsic parse_autoware(std::string_view text, const std::string& source_name,
-                         const std::optional<std::string>& child_frame = std::nullopt);
-std::vector<Extrinsic> parse_autoware_all(std::string_view text, const std::string& source_name);
-
-// Written with full precision; read from any precision (the reference writes 6 digits, so its
-// rotation is checked within 1e-5 instead of 1e-6, then re-orthonormalised).
+// Written with full precision; read from any precision (the reference writes 6 digits; its
+// rotation is checked within 1e-5 as in the matrix form, then re-orthonormalised).
 std::string format_reference(const Extrinsic& extrinsic);
 Extrinsic parse_reference(std::string_view text, const std::string& source_name);
 

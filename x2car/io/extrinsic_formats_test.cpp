@@ -8,44 +8,30 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "x2car/core/error.hpp"
 #include "x2car/core/rotation.hpp"
+#include "x2car/io/extrinsic_test_support.hpp"
 
 namespace x2car::io {
 namespace {
 
+using testing::expect_same_transform;
 using ::testing::HasSubstr;
+using testing::input_error_of;
+using testing::kExact;
+using testing::kSensorKit;
+using testing::sample_extrinsic;
 
-constexpr double kExact = 1e-12;
-
-Extrinsic sample_extrinsic() {
-  Extrinsic extrinsic;
-  extrinsic.parent_frame = "base_link";
-  extrinsic.child_frame = "lidar_top";
-  extrinsic.parent_from_child =
-      make_transform(EulerAngles{0.1, -0.2, 2.5}, Eigen::Vector3d(1.25, -0.3, 1.8));
-  return extrinsic;
-}
-
-void expect_same_transform(const Eigen::Isometry3d& actual, const Eigen::Isometry3d& expected,
-                           double tolerance = kExact) {
-  EXPECT_LE((actual.matrix() - expected.matrix()).cwiseAbs().maxCoeff(), tolerance)
-      << "actual\n"
-      << actual.matrix() << "\nexpected\n"
-      << expected.matrix();
-}
-
-// Runs `parse` and returns the InputError it must throw.
-template <typename Parse>
-InputError input_error_of(Parse parse) {
-  try {
-    parse();
-  } catch (const InputError& error) {
-    return error;
+// Rotations spread over the sphere of orientations, every angle away from the special values.
+std::vector<EulerAngles> spread_rotations() {
+  std::vector<EulerAngles> rotations;
+  for (int i = 0; i < 64; ++i) {
+    rotations.push_back(
+        {-3.0 + 0.0937 * i, -1.5 + 0.0469 * ((i * 7) % 64), -3.1 + 0.0968 * ((i * 13) % 64)});
   }
-  ADD_FAILURE() << "no InputError thrown";
-  return InputError("", "");
+  return rotations;
 }
 
 // ---- every writer reads back ------------------------------------------------------------------
@@ -181,6 +167,32 @@ TEST(ParseMatrix, RejectsAWrongLastRow) {
   EXPECT_THAT(error.what(), HasSubstr("0 0 0 1"));
 }
 
+TEST(ParseMatrix, SixDigitOutputOfAnyRotationReads) {
+  // Eigen's operator<< prints 6 significant digits, as people paste from a debugger or a log.
+  for (const EulerAngles& angles : spread_rotations()) {
+    const Eigen::Matrix4d m = make_transform(angles, Eigen::Vector3d(0.1, 0.2, 0.3)).matrix();
+    std::ostringstream text;
+    text << m;
+    const Extrinsic read = parse_matrix(text.str(), "printed.txt");
+    EXPECT_LT(angle_between(read.parent_from_child.linear(), m.topLeftCorner<3, 3>()), 1e-5)
+        << text.str();
+  }
+}
+
+TEST(ParseMatrix, RejectsAnEntryOffByOneInAThousand) {
+  int row = 0;
+  for (const EulerAngles& angles : spread_rotations()) {
+    Eigen::Matrix4d m = make_transform(angles, Eigen::Vector3d(0.1, 0.2, 0.3)).matrix();
+    m(row, (row + 1) % 3) += 1e-3;
+    row = (row + 1) % 3;
+    std::ostringstream text;
+    text << m;
+    EXPECT_THAT(input_error_of([&] { parse_matrix(text.str(), "off.txt"); }).what(),
+                HasSubstr("not a rotation"))
+        << text.str();
+  }
+}
+
 TEST(ParseMatrix, NamesTheLineAndFieldOfABadNumber) {
   const InputError error =
       input_error_of([] { parse_matrix("1 0 0 0\n0 1 x 0\n0 0 1 0\n0 0 0 1\n", "m.txt"); });
@@ -196,124 +208,26 @@ TEST(ParseQuaternion, NormalisesAndRejectsZero) {
   EXPECT_EQ(error.field(), "quaternion");
 }
 
+TEST(ParseMatrix, CountErrorDescribesTheMatrix) {
+  EXPECT_THAT(input_error_of([] { parse_matrix("1 0 0", "m.txt"); }).what(),
+              HasSubstr("expected 16 numbers (a 4x4 matrix, row-major), found 3"));
+  EXPECT_THAT(input_error_of([] { parse_reference("Extrinsic:\n[1,0,0,0]", "r.txt"); }).what(),
+              HasSubstr("expected 16 numbers (a 4x4 matrix, row-major) after 'Extrinsic:', "
+                        "found 4"));
+}
+
+TEST(ParseQuaternion, CountErrorNamesTheNumbers) {
+  EXPECT_THAT(input_error_of([] { parse_quaternion("1 2 3 0 0 0", "q.txt"); }).what(),
+              HasSubstr("expected 7 numbers (x y z qx qy qz qw), found 6"));
+}
+
 TEST(ParseXyzRpy, CountsAndFieldsAreChecked) {
   EXPECT_THAT(input_error_of([] { parse_xyzrpy("1 2 3 4 5", AngleUnit::kRadians, "e"); }).what(),
               HasSubstr("expected 6 numbers"));
+  EXPECT_THAT(input_error_of([] { parse_xyzrpy("1 2 3 4 5", AngleUnit::kRadians, "e"); }).what(),
+              HasSubstr("expected 6 numbers (x y z roll pitch yaw), found 5"));
   EXPECT_EQ(input_error_of([] { parse_xyzrpy("1 2 3 4 nan 6", AngleUnit::kRadians, "e"); }).field(),
             "pitch");
-}
-
-// ---- URDF -------------------------------------------------------------------------------------
-
-TEST(ParseUrdf, ReadsAHandWrittenJoint) {
-  const Extrinsic read = parse_urdf(R"(
-    <!-- <joint name="commented_out" type="fixed"> -->
-    <joint name='lidar_joint' type="fixed">
-      <parent link="base_link"/>
-      <child link="velodyne" />
-      <origin rpy="0 0.0349 0" xyz="1.0 0.0 1.8"/>
-    </joint>)",
-                                    "robot.urdf");
-  EXPECT_EQ(read.parent_frame, "base_link");
-  EXPECT_EQ(read.child_frame, "velodyne");
-  EXPECT_NEAR(read.parent_from_child.translation().z(), 1.8, kExact);
-  EXPECT_NEAR(euler_from_rotation(read.parent_from_child.linear()).pitch, 0.0349, kExact);
-}
-
-TEST(ParseUrdf, MissingOriginIsIdentity) {
-  const Extrinsic read = parse_urdf(
-      "<joint name=\"j\" type=\"fixed\"><parent link=\"a\"/><child link=\"b\"/></joint>", "u");
-  expect_same_transform(read.parent_from_child, Eigen::Isometry3d::Identity(), 0.0);
-}
-
-TEST(ParseUrdf, SeveralJointsNeedAChildName) {
-  const std::string text =
-      "<robot><joint name=\"a\" type=\"fixed\"><parent link=\"base_link\"/><child "
-      "link=\"radar\"/><origin xyz=\"3 0 0.5\"/></joint>\n"
-      "<joint name=\"b\" type=\"fixed\"><parent link=\"base_link\"/><child link=\"camera\"/>"
-      "</joint></robot>";
-  EXPECT_THAT(input_error_of([&] { parse_urdf(text, "u"); }).what(), HasSubstr("radar, camera"));
-  EXPECT_EQ(parse_urdf(text, "u", "radar").parent_from_child.translation().x(), 3.0);
-}
-
-TEST(ParseUrdf, RejectsAMovingJointAndAMissingParent) {
-  EXPECT_EQ(input_error_of([] {
-              parse_urdf(
-                  "<joint name=\"j\" type=\"revolute\"><parent link=\"a\"/>"
-                  "<child link=\"b\"/></joint>",
-                  "u");
-            }).field(),
-            "type");
-  EXPECT_EQ(input_error_of([] {
-              parse_urdf("<joint name=\"j\" type=\"fixed\">\n<child link=\"b\"/></joint>", "u");
-            }).field(),
-            "parent");
-}
-
-// ---- Autoware ---------------------------------------------------------------------------------
-
-constexpr const char* kSensorKit = R"(sensor_kit_base_link:
-  velodyne_top_base_link:
-    x: 0.0
-    y: 0.0
-    z: 0.0
-    roll: 0.01
-    pitch: -0.02
-    yaw: 1.575
-  camera0/camera_link:
-    x: 0.10731
-    y: 0.56343
-    z: -0.27697
-    roll: -0.025
-    pitch: 0.315
-    yaw: 1.035
-)";
-
-TEST(ParseAutoware, PicksTheNamedChild) {
-  const Extrinsic camera = parse_autoware(kSensorKit, "kit.yaml", "camera0/camera_link");
-  EXPECT_EQ(camera.parent_frame, "sensor_kit_base_link");
-  EXPECT_NEAR(camera.parent_from_child.translation().y(), 0.56343, kExact);
-  const EulerAngles angles = euler_from_rotation(camera.parent_from_child.linear());
-  EXPECT_NEAR(angles.pitch, 0.315, kExact);
-  EXPECT_NEAR(angles.yaw, 1.035, kExact);
-  EXPECT_EQ(parse_autoware_all(kSensorKit, "kit.yaml").size(), 2u);
-}
-
-TEST(ParseAutoware, AmbiguousOrAbsentChildListsThePresentOnes) {
-  EXPECT_THAT(input_error_of([] { parse_autoware(kSensorKit, "kit.yaml"); }).what(),
-              HasSubstr("velodyne_top_base_link, camera0/camera_link"));
-  EXPECT_THAT(input_error_of([] { parse_autoware(kSensorKit, "kit.yaml", "radar"); }).what(),
-              HasSubstr("velodyne_top_base_link, camera0/camera_link"));
-}
-
-TEST(ParseAutoware, NamesTheMissingOrBadField) {
-  const InputError missing = input_error_of(
-      [] { parse_autoware("base_link:\n  lidar:\n    x: 1\n    y: 0\n    z: 2\n", "k.yaml"); });
-  EXPECT_EQ(missing.field(), "lidar.roll");
-  const InputError bad = input_error_of([] {
-    parse_autoware(
-        "base_link:\n  lidar:\n    x: 1\n    y: zero\n    z: 2\n    roll: 0\n"
-        "    pitch: 0\n    yaw: 0\n",
-        "k.yaml");
-  });
-  EXPECT_EQ(bad.field(), "lidar.y");
-  EXPECT_EQ(bad.line(), 4u);
-}
-
-TEST(FormatAutoware, SeveralChildrenUnderOneParentReadBack) {
-  Extrinsic radar = sample_extrinsic();
-  radar.child_frame = "radar: front";  // needs quoting in YAML
-  Extrinsic null_named = sample_extrinsic();
-  null_named.child_frame = "null";
-  const std::vector<Extrinsic> written{sample_extrinsic(), radar, null_named};
-  const std::vector<Extrinsic> read = parse_autoware_all(format_autoware(written), "k.yaml");
-  ASSERT_EQ(read.size(), 3u);
-  EXPECT_EQ(read[1].child_frame, "radar: front");
-  EXPECT_EQ(read[2].child_frame, "null");
-  expect_same_transform(read[1].parent_from_child, radar.parent_from_child);
-  radar.parent_frame = "other";
-  EXPECT_THROW(format_autoware(std::vector<Extrinsic>{sample_extrinsic(), radar}),
-               std::invalid_argument);
 }
 
 // ---- detection --------------------------------------------------------------------------------

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -88,6 +89,11 @@ std::vector<TextLine> split_lines(std::string_view text, const LineOptions& opti
     if (keep_line(line, options)) lines.push_back({number, line});
   }
   return lines;
+}
+
+std::size_t line_number_at(std::string_view text, std::size_t offset) {
+  const std::string_view before = text.substr(0, offset);
+  return 1 + static_cast<std::size_t>(std::count(before.begin(), before.end(), '\n'));
 }
 
 std::string_view trim(std::string_view text) {

@@ -36,6 +36,10 @@ struct LineOptions {
 // Splits a text into lines ('\n' or "\r\n"; a leading UTF-8 byte-order mark is dropped).
 std::vector<TextLine> split_lines(std::string_view text, const LineOptions& options = {});
 
+// The 1-based number of the line holding the character at `offset` of `text` (counting '\n'), for
+// errors about a position found by searching a whole text.
+std::size_t line_number_at(std::string_view text, std::size_t offset);
+
 // Trims spaces, tabs, '\r' and '\n' from both ends.
 std::string_view trim(std::string_view text);
 
