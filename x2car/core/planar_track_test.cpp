@@ -217,7 +217,7 @@ TEST(PlanarTrack, SamplesMatchStateAndRejectBadInput) {
 }
 
 // 10 min at 100 Hz (60 000 samples, ~1 200 coefficients) with GCV: the brief is well under 0.1 s
-// in release; asserted only < 1 s because CI machines vary.
+// in release; asserted only < 1 s because CI machines vary, and only in optimised builds.
 TEST(PlanarTrack, FitsTenMinutesAt100HzQuickly) {
   const auto weave = [](double t) {
     return TruePose{10.0 * t + 30.0 * std::sin(0.05 * t), 40.0 * std::sin(0.03 * t), 0.0, 0.0};
@@ -236,9 +236,14 @@ TEST(PlanarTrack, FitsTenMinutesAt100HzQuickly) {
       "dof %.1f, residual std %.4f m)\n",
       track.times.size(), 1e3 * fit_s, 1e3 * sample_s, fitted.x_spline().smoothing(),
       fitted.x_spline().effective_dof(), fitted.x_spline().residual_std());
-  EXPECT_LT(fit_s + sample_s, 1.0);
   EXPECT_NEAR(fitted.x_spline().residual_std(), 0.02, 0.004);
   EXPECT_EQ(samples.time.size(), track.times.size());
+#ifdef NDEBUG
+  EXPECT_LT(fit_s + sample_s, 1.0);
+#else
+  // Unoptimised and sanitizer builds run many times slower; their timing says nothing.
+  GTEST_SKIP() << "timing is asserted only in optimised builds";
+#endif
 }
 
 }  // namespace
