@@ -20,7 +20,8 @@ struct Subcommand {
 
 std::span<const Subcommand> subcommand_table();
 
-// One entry per file: convert_command.cpp, ...
+// One entry per file: convert_command.cpp, simulate_command.cpp, ...
 RunCommand setup_convert_command(CLI::App& command);
+RunCommand setup_simulate_command(CLI::App& command);
 
 }  // namespace x2car::cli

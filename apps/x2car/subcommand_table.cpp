@@ -11,6 +11,10 @@ std::span<const Subcommand> subcommand_table() {
           "Convert an extrinsic between xyz+rpy, 4x4 matrix, quaternion, URDF, Autoware YAML "
           "and the reference tool's text",
           &setup_convert_command},
+      Subcommand{"simulate",
+                 "Simulate a drive: sensor data and ground truth, the test bench of every "
+                 "accuracy claim",
+                 &setup_simulate_command},
   };
   return kSubcommands;
 }

@@ -169,7 +169,8 @@ SensorMounting mounting_from_transform(const Eigen::Isometry3d& vehicle_from_sen
 std::string format_ground_truth(const GroundTruth& truth) {
   std::string text =
       "# x2car simulator ground truth. vehicle_from_<sensor>: p_V = R_V_S p_S + t_V_S with\n"
-      "# t_V_S = (x, y, z) [m] and R_V_S = Rz(yaw) Ry(pitch) Rx(roll) [rad] (DESIGN 1).\n";
+      "# t_V_S = (x, y, z) [m] and R_V_S = Rz(yaw) Ry(pitch) Rx(roll) [rad] "
+      "(docs/conventions.md).\n";
   text += fmt::format("scenario: {}\nseed: {}\nduration_s: {}\ntrajectory: {}\n",
                       yaml_string(truth.scenario), truth.seed, format_number(truth.duration_s),
                       yaml_string(truth.trajectory_file));
