@@ -144,3 +144,45 @@ TEST(Convert, BadInputNamesTheFileAndExitsWithTwo) {
 
 }  // namespace
 }  // namespace x2car::cli
+
+namespace x2car::cli {
+namespace {
+
+TEST(Simulate, WritesTheDriveAndItsGroundTruth) {
+  const auto folder = std::filesystem::path(::testing::TempDir()) / "cli_simulate";
+  std::filesystem::remove_all(folder);
+  const CliRun run =
+      run_x2car("simulate --scenario straight --duration 20 --seed 2 --out " + folder.string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("true mountings"));
+  for (const char* file :
+       {"ground_truth.yaml", "trajectory.csv", "ins/novatel_enu.csv", "ins/ins.csv"}) {
+    EXPECT_TRUE(std::filesystem::exists(folder / file)) << file;
+  }
+}
+
+TEST(Simulate, MountingFileReplacesTheDrawnMounting) {
+  const auto mounting = write_temp_file(
+      "mounting.yaml",
+      "vehicle_from_ins:\n  x: 1\n  y: 0\n  z: 1\n  roll: 0\n  pitch: 0\n  yaw: 0.0349\n");
+  const auto folder = std::filesystem::path(::testing::TempDir()) / "cli_simulate_mounting";
+  const CliRun run = run_x2car("simulate --duration 10 --out " + folder.string() + " --mounting " +
+                               mounting.string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("1.9996"));  // 0.0349 rad in degrees
+}
+
+TEST(Simulate, BadArgumentsExitWithTwo) {
+  const std::string out = " --out " + (std::filesystem::path(::testing::TempDir()) / "x").string();
+  EXPECT_EQ(run_x2car("simulate --sensors sonar" + out).exit_code, 2);
+  EXPECT_EQ(run_x2car("simulate --scenario moon" + out).exit_code, 2);
+  EXPECT_EQ(run_x2car("simulate --duration -5" + out).exit_code, 2);
+  EXPECT_EQ(run_x2car("simulate --duration 10").exit_code, 2);  // no --out
+  const auto broken = write_temp_file("broken_mounting.yaml", "vehicle_from_ins:\n  x: one\n");
+  const CliRun run = run_x2car("simulate --mounting " + broken.string() + out);
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_THAT(run.output, HasSubstr(broken.string()));
+}
+
+}  // namespace
+}  // namespace x2car::cli
