@@ -10,6 +10,7 @@
 #include "x2car/core/error.hpp"
 #include "x2car/core/extrinsic.hpp"
 #include "x2car/core/rotation.hpp"
+#include "x2car/core/test_matchers.hpp"
 
 namespace x2car::io::testing {
 
@@ -33,17 +34,8 @@ inline void expect_same_transform(const Eigen::Isometry3d& actual,
       << expected.matrix();
 }
 
-// Runs `parse` and returns the InputError it must throw.
-template <typename Parse>
-InputError input_error_of(Parse parse) {
-  try {
-    parse();
-  } catch (const InputError& error) {
-    return error;
-  }
-  ADD_FAILURE() << "no InputError thrown";
-  return InputError("", "");
-}
+// Runs a parse and returns the InputError it must throw.
+using x2car::testing::input_error_of;
 
 // Two children under one parent, as in Autoware's sample sensor kits.
 inline constexpr const char* kSensorKit = R"(sensor_kit_base_link:

@@ -11,6 +11,7 @@
 
 #include "x2car/core/error.hpp"
 #include "x2car/core/rotation.hpp"
+#include "x2car/core/test_matchers.hpp"
 #include "x2car/io/text_lines.hpp"
 
 namespace x2car::io {
@@ -46,27 +47,15 @@ void expect_same_mountings(const SensorMountings& actual, const SensorMountings&
 
 InputError expect_yaml_error(const std::string& text, std::size_t line, const std::string& field,
                              bool mountings_only = false) {
-  try {
-    if (mountings_only) {
-      parse_mountings(text, "truth.yaml");
-    } else {
-      parse_ground_truth(text, "truth.yaml");
-    }
-  } catch (const InputError& error) {
-    EXPECT_EQ(error.file(), "truth.yaml");
-    EXPECT_EQ(error.line(), line);
-    EXPECT_EQ(error.field(), field);
-    EXPECT_THAT(error.what(), HasSubstr("truth.yaml"));
-    if (line > 0) {
-      EXPECT_THAT(error.what(), HasSubstr(":" + std::to_string(line)));
-    }
-    if (!field.empty()) {
-      EXPECT_THAT(error.what(), HasSubstr("(field " + field + ")"));
-    }
-    return error;
-  }
-  ADD_FAILURE() << "no InputError thrown";
-  return InputError("", "");
+  return x2car::testing::expect_input_error(
+      [&] {
+        if (mountings_only) {
+          parse_mountings(text, "truth.yaml");
+        } else {
+          parse_ground_truth(text, "truth.yaml");
+        }
+      },
+      "truth.yaml", line, field);
 }
 
 constexpr char kHead[] = "scenario: urban\nseed: 3\nduration_s: 60\ntrajectory: trajectory.csv\n";

@@ -10,6 +10,7 @@
 
 #include "x2car/core/error.hpp"
 #include "x2car/core/rotation.hpp"
+#include "x2car/core/test_matchers.hpp"
 #include "x2car/io/ins_csv.hpp"
 #include "x2car/io/text_lines.hpp"
 
@@ -17,6 +18,7 @@ namespace x2car::io {
 namespace {
 
 using ::testing::HasSubstr;
+using x2car::testing::expect_input_error;
 
 constexpr std::int64_t kNs = 1000000000;
 constexpr char kHeader[] = "gps_time,sow,x,y,z,vn,ve,vu,roll,pitch,azimuth,status\n";
@@ -36,29 +38,6 @@ std::vector<InsRecord> sample_records() {
     records.push_back(r);
   }
   return records;
-}
-
-// Checks the InputError `parse` throws: file, line and field in the error and in its message.
-template <typename Parse>
-InputError expect_input_error(Parse parse, const std::string& file, std::size_t line,
-                              const std::string& field = {}) {
-  try {
-    parse();
-  } catch (const InputError& error) {
-    EXPECT_EQ(error.file(), file);
-    EXPECT_EQ(error.line(), line);
-    EXPECT_EQ(error.field(), field);
-    EXPECT_THAT(error.what(), HasSubstr(file));
-    if (line > 0) {
-      EXPECT_THAT(error.what(), HasSubstr(":" + std::to_string(line)));
-    }
-    if (!field.empty()) {
-      EXPECT_THAT(error.what(), HasSubstr("(field " + field + ")"));
-    }
-    return error;
-  }
-  ADD_FAILURE() << "no InputError thrown";
-  return InputError("", "");
 }
 
 InputError expect_novatel_error(const std::string& text, std::size_t line,

@@ -10,12 +10,14 @@
 
 #include "x2car/core/error.hpp"
 #include "x2car/core/rotation.hpp"
+#include "x2car/core/test_matchers.hpp"
 #include "x2car/io/text_lines.hpp"
 
 namespace x2car::io {
 namespace {
 
 using ::testing::HasSubstr;
+using x2car::testing::expect_input_error;
 
 constexpr double kExact = 1e-12;
 
@@ -60,29 +62,6 @@ void expect_same_poses(const std::vector<StampedPose>& actual,
         actual[i].world_from_body.matrix() - expected[i].world_from_body.matrix();
     EXPECT_LE(difference.cwiseAbs().maxCoeff(), kExact) << "pose " << i;
   }
-}
-
-// Runs `read` and checks the InputError it must throw: file, line and field, all in the message.
-template <typename Read>
-InputError expect_input_error(Read read, const std::filesystem::path& file, std::size_t line,
-                              const std::string& field = {}) {
-  try {
-    read();
-  } catch (const InputError& error) {
-    EXPECT_EQ(error.file(), file.string());
-    EXPECT_EQ(error.line(), line);
-    EXPECT_EQ(error.field(), field);
-    EXPECT_THAT(error.what(), HasSubstr(file.string()));
-    if (line > 0) {
-      EXPECT_THAT(error.what(), HasSubstr(":" + std::to_string(line)));
-    }
-    if (!field.empty()) {
-      EXPECT_THAT(error.what(), HasSubstr(field));
-    }
-    return error;
-  }
-  ADD_FAILURE() << "no InputError thrown";
-  return InputError("", "");
 }
 
 // ---- TUM --------------------------------------------------------------------------------------

@@ -12,6 +12,7 @@
 
 #include "x2car/core/error.hpp"
 #include "x2car/core/rotation.hpp"
+#include "x2car/core/test_matchers.hpp"
 
 namespace x2car::io {
 namespace {
@@ -92,15 +93,13 @@ void expect_same_result(const CalibrationResult& actual, const CalibrationResult
   }
 }
 
+// The InputError parsing `text` as result.json must throw, checked to name that file.
 InputError input_error_of(const std::string& text) {
-  try {
-    parse_result_json(text, "result.json");
-  } catch (const InputError& error) {
-    EXPECT_EQ(error.file(), "result.json");
-    return error;
-  }
-  ADD_FAILURE() << "no InputError for " << text;
-  return InputError("", "");
+  SCOPED_TRACE("parsing " + text);
+  const InputError error =
+      x2car::testing::input_error_of([&] { parse_result_json(text, "result.json"); });
+  EXPECT_EQ(error.file(), "result.json");
+  return error;
 }
 
 TEST(ResultJson, WriterOutputReadsBack) {
