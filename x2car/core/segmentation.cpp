@@ -6,7 +6,7 @@
 namespace x2car {
 namespace {
 
-enum class SampleState { kValid, kSlow, kCurved };
+enum class SampleState { kValid, kExcluded, kSlow, kCurved };
 
 SampleState classify(double speed, double curvature, const SegmentationOptions& options) {
   if (!(std::isfinite(speed) && speed >= options.min_speed)) return SampleState::kSlow;
@@ -54,21 +54,28 @@ std::size_t Segmentation::sample_count() const {
 }
 
 Segmentation segment_runs(std::span<const double> times, std::span<const double> speeds,
-                          std::span<const double> curvatures, const SegmentationOptions& options) {
+                          std::span<const double> curvatures, const SegmentationOptions& options,
+                          std::span<const std::uint8_t> excluded) {
   options.Check();
   if (speeds.size() != times.size() || curvatures.size() != times.size()) {
     throw std::invalid_argument("segmentation: times, speeds and curvatures differ in size");
+  }
+  if (!excluded.empty() && excluded.size() != times.size()) {
+    throw std::invalid_argument("segmentation: the exclusion mask and the times differ in size");
   }
   Segmentation segmentation;
   std::size_t run_begin = 0;
   bool in_run = false;
   for (std::size_t i = 0; i < times.size(); ++i) {
-    const SampleState state = classify(speeds[i], curvatures[i], options);
+    const SampleState state = !excluded.empty() && excluded[i] != 0
+                                  ? SampleState::kExcluded
+                                  : classify(speeds[i], curvatures[i], options);
     const bool gap_before = in_run && times[i] - times[i - 1] > options.max_gap_s;
     if (in_run && (state != SampleState::kValid || gap_before)) {
       keep_trimmed_run(times, run_begin, i, options, segmentation);
       in_run = false;
     }
+    if (state == SampleState::kExcluded) ++segmentation.rejections.excluded;
     if (state == SampleState::kSlow) ++segmentation.rejections.slow;
     if (state == SampleState::kCurved) ++segmentation.rejections.curved;
     if (state == SampleState::kValid && !in_run) {

@@ -36,6 +36,7 @@ struct SegmentationRejections {
   std::int64_t curved = 0;     // |curvature| above max_abs_curvature, or not finite
   std::int64_t trimmed = 0;    // within end_trim_s of a run's end
   std::int64_t short_run = 0;  // in a run shorter than min_duration_s after trimming
+  std::int64_t excluded = 0;   // marked by the caller (e.g. reversing), checked first
 };
 
 struct Segmentation {
@@ -45,10 +46,13 @@ struct Segmentation {
   std::size_t sample_count() const;  // samples inside the segments
 };
 
-// `times` strictly increasing [s]; `speeds` [m/s] and `curvatures` [1/m] per sample.
-// Throws std::invalid_argument when the sizes differ or the options are invalid.
+// `times` strictly increasing [s]; `speeds` [m/s] and `curvatures` [1/m] per sample; `excluded`
+// empty or one flag per sample (non-zero: the caller rejects the sample for its own reason, which
+// breaks a run like any other rejection). Throws std::invalid_argument when the sizes differ or the
+// options are invalid.
 Segmentation segment_runs(std::span<const double> times, std::span<const double> speeds,
                           std::span<const double> curvatures,
-                          const SegmentationOptions& options = {});
+                          const SegmentationOptions& options = {},
+                          std::span<const std::uint8_t> excluded = {});
 
 }  // namespace x2car

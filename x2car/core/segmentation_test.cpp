@@ -78,6 +78,26 @@ TEST(Segmentation, NonFiniteSamplesAreRejected) {
   EXPECT_EQ(segmentation.segments.size(), 2u);
 }
 
+TEST(Segmentation, ExcludedSamplesBreakRunsAndAreCountedFirst) {
+  const ConstructedTrack track = make_track();
+  // Exclude 10-11 s inside the first straight and 0-1 s, where the car also stands still.
+  std::vector<std::uint8_t> excluded(track.times.size(), 0);
+  for (std::size_t i = 0; i < track.times.size(); ++i) {
+    const double t = track.times[i];
+    excluded[i] = (t >= 10.0 && t < 11.0) || t < 1.0;
+  }
+  const Segmentation segmentation =
+      segment_runs(track.times, track.speeds, track.curvatures, {.min_duration_s = 4.0}, excluded);
+  ASSERT_EQ(segmentation.segments.size(), 4u);
+  EXPECT_NEAR(segmentation.segments[0].end_time, 9.9, 1e-9);
+  EXPECT_NEAR(segmentation.segments[1].start_time, 11.0, 1e-9);
+  EXPECT_EQ(segmentation.rejections.excluded, 20);
+  EXPECT_EQ(segmentation.rejections.slow, 40 + 20);
+  const std::vector<std::uint8_t> wrong_size(3, 0);
+  EXPECT_THROW(segment_runs(track.times, track.speeds, track.curvatures, {}, wrong_size),
+               std::invalid_argument);
+}
+
 TEST(Segmentation, RejectsBadArguments) {
   const std::vector<double> times = {0, 1};
   const std::vector<double> short_list = {1};
