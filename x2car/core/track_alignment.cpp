@@ -1,0 +1,162 @@
+#include "x2car/core/track_alignment.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "x2car/core/rotation.hpp"
+
+namespace x2car {
+namespace {
+
+void check_track(const SensorTrack& track) {
+  const std::size_t n = track.time.size();
+  if (track.position_enu.size() != n || track.world_from_sensor.size() != n ||
+      (!track.velocity_enu.empty() && track.velocity_enu.size() != n)) {
+    throw std::invalid_argument(
+        "align_track: the track's time, position, attitude and velocity "
+        "lists differ in length");
+  }
+  for (std::size_t i = 1; i < n; ++i) {
+    if (!(track.time[i] > track.time[i - 1])) {
+      throw std::invalid_argument("align_track: times must strictly increase");
+    }
+  }
+}
+
+// Velocity of the sensor [m/s]: the input's, or the derivative of the position splines.
+std::vector<Eigen::Vector3d> sensor_velocities(const SensorTrack& track, const PlanarTrack& planar,
+                                               const TrackAlignmentOptions& options) {
+  if (!track.velocity_enu.empty()) return track.velocity_enu;
+  std::vector<double> z(track.time.size());
+  for (std::size_t i = 0; i < z.size(); ++i) z[i] = track.position_enu[i].z();
+  const PSpline z_of_time = fit_pspline(track.time, z, options.track.spline);
+  std::vector<Eigen::Vector3d> velocities(track.time.size());
+  for (std::size_t i = 0; i < velocities.size(); ++i) {
+    const PlanarTrackState state = planar.state(track.time[i]);
+    velocities[i] = {state.velocity_x, state.velocity_y, z_of_time.derivative(track.time[i], 1)};
+  }
+  return velocities;
+}
+
+// Flags samples whose heading offset is more than 90 deg from the mean offset of all moving
+// samples: the car was going backwards, so the track's heading is the car's plus pi.
+std::vector<std::uint8_t> find_reversing(std::span<const double> offsets,
+                                         std::span<const double> speeds, double min_speed) {
+  std::vector<double> moving;
+  for (std::size_t i = 0; i < offsets.size(); ++i) {
+    if (speeds[i] >= min_speed) moving.push_back(offsets[i]);
+  }
+  std::vector<std::uint8_t> reversing(offsets.size(), 0);
+  if (moving.empty() || mean_resultant_length(moving) < 1e-6) return reversing;
+  const double usual_offset = circular_mean(moving);
+  for (std::size_t i = 0; i < offsets.size(); ++i) {
+    reversing[i] =
+        speeds[i] >= min_speed && std::abs(angle_difference(offsets[i], usual_offset)) > kPi / 2.0;
+  }
+  return reversing;
+}
+
+// The velocity method's yaw and pitch of one sample (see the header); NaN when the velocity is
+// zero or vertical.
+void velocity_direction_angles(const Eigen::Vector3d& velocity_enu,
+                               const Eigen::Matrix3d& world_from_sensor, double& yaw,
+                               double& pitch) {
+  yaw = pitch = std::nan("");
+  const double speed = velocity_enu.norm();
+  if (!(speed > 0.0) || !std::isfinite(speed)) return;
+  const Eigen::Vector3d x_vehicle = velocity_enu / speed;
+  const Eigen::Vector3d horizontal_left = Eigen::Vector3d::UnitZ().cross(x_vehicle);
+  if (!(horizontal_left.norm() > 1e-6)) return;
+  const Eigen::Vector3d y_vehicle = horizontal_left.normalized();
+  const Eigen::Vector3d z_vehicle = x_vehicle.cross(y_vehicle);
+  const Eigen::Vector3d x_sensor = world_from_sensor.col(0);
+  yaw = std::atan2(x_sensor.dot(y_vehicle), x_sensor.dot(x_vehicle));
+  pitch = -std::asin(std::clamp(x_sensor.dot(z_vehicle), -1.0, 1.0));
+}
+
+std::string describe_shortage(const TrackAlignment& alignment,
+                              const TrackAlignmentOptions& options) {
+  const SegmentationRejections& r = alignment.segmentation.rejections;
+  return fmt::format(
+      "only {:.1f} s of usable driving (faster than {:g} m/s, |curvature| <= {:g} 1/m, in runs "
+      "of at least {:g} s); need {:g} s. Of {} samples: {} too slow, {} in turns, {} reversing, "
+      "{} in runs too short, {} trimmed at run ends",
+      alignment.valid_duration_s, options.segments.min_speed, options.segments.max_abs_curvature,
+      options.segments.min_duration_s, options.min_valid_duration_s, alignment.track.time.size(),
+      r.slow, r.curved, r.excluded - alignment.without_direction, r.short_run, r.trimmed);
+}
+
+}  // namespace
+
+void TrackAlignmentOptions::Check() const {
+  track.Check();
+  segments.Check();
+  average.Check();
+  if (!(min_valid_duration_s >= 0.0)) {
+    throw std::invalid_argument("track alignment: min_valid_duration_s must be >= 0");
+  }
+  if (!(reversing_test_min_speed >= 0.0)) {
+    throw std::invalid_argument("track alignment: reversing_test_min_speed must be >= 0");
+  }
+}
+
+TrackAlignment align_track(const SensorTrack& sensor_track, const TrackAlignmentOptions& options) {
+  options.Check();
+  check_track(sensor_track);
+  const std::size_t n = sensor_track.time.size();
+  std::vector<double> x(n), y(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    x[i] = sensor_track.position_enu[i].x();
+    y[i] = sensor_track.position_enu[i].y();
+  }
+  const PlanarTrack planar = fit_planar_track(sensor_track.time, x, y, options.track);
+
+  TrackAlignment alignment;
+  alignment.track = sample_planar_track(planar, sensor_track.time);
+  alignment.velocity_from_sensor = !sensor_track.velocity_enu.empty();
+  const std::vector<Eigen::Vector3d> velocities = sensor_velocities(sensor_track, planar, options);
+  alignment.sensor_heading.resize(n);
+  alignment.heading_offset.resize(n);
+  alignment.velocity_yaw.resize(n);
+  alignment.velocity_pitch.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Matrix3d& world_from_sensor = sensor_track.world_from_sensor[i];
+    alignment.sensor_heading[i] = euler_from_rotation(world_from_sensor).yaw;
+    alignment.heading_offset[i] =
+        angle_difference(alignment.sensor_heading[i], alignment.track.heading_enu[i]);
+    velocity_direction_angles(velocities[i], world_from_sensor, alignment.velocity_yaw[i],
+                              alignment.velocity_pitch[i]);
+  }
+  alignment.reversing = find_reversing(alignment.heading_offset, alignment.track.speed,
+                                       options.reversing_test_min_speed);
+  // Reversing samples, and the rare moving sample whose velocity gives no direction, are excluded.
+  std::vector<std::uint8_t> excluded = alignment.reversing;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(alignment.velocity_yaw[i])) {
+      excluded[i] = 1;
+      ++alignment.without_direction;
+    }
+  }
+  alignment.segmentation = segment_runs(alignment.track.time, alignment.track.speed,
+                                        alignment.track.curvature, options.segments, excluded);
+  for (const TimeSegment& segment : alignment.segmentation.segments) {
+    alignment.valid_duration_s += segment.duration();
+  }
+  if (alignment.segmentation.segments.empty() ||
+      alignment.valid_duration_s < options.min_valid_duration_s) {
+    alignment.insufficient_reason = describe_shortage(alignment, options);
+    return alignment;
+  }
+  alignment.yaw = average_over_segments(alignment.track.time, alignment.heading_offset,
+                                        alignment.segmentation, options.average);
+  alignment.velocity_yaw_estimate = average_over_segments(
+      alignment.track.time, alignment.velocity_yaw, alignment.segmentation, options.average);
+  alignment.velocity_pitch_estimate = average_over_segments(
+      alignment.track.time, alignment.velocity_pitch, alignment.segmentation, options.average);
+  return alignment;
+}
+
+}  // namespace x2car

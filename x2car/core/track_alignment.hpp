@@ -1,0 +1,91 @@
+// How a sensor's attitude lines up with the direction the car moves (DESIGN §2, paper §III-C).
+// Shared by every calibrator that has the sensor's pose over time (GNSS/INS from the device,
+// LiDAR from its odometry).
+//
+// Track-heading method (the paper's): fit x(t), y(t) with a P-spline, take the heading of its
+// tangent, keep the moving, nearly straight samples (segment_runs), and compare with the sensor's
+// yaw at the same timestamp: offset = wrap(sensor yaw - track heading). On a level car the
+// sensor's ZYX yaw is the car's heading plus the mounting yaw exactly, so the offset is the
+// mounting yaw.
+//
+// Velocity-direction method (beyond the paper): a car does not slide sideways or lift off, so its
+// velocity points along its x axis (non-holonomic constraint). With the car frame V0 built from
+// the velocity (x along it, y horizontal, z up), the sensor's x axis expressed in V0 gives
+//   yaw   = atan2(x_S . y_V0, x_S . x_V0),   pitch = -asin(x_S . z_V0),
+// the ZYX yaw and pitch of vehicle_from_sensor. Roll would need the car's own roll in the world
+// (crossfall, body roll), which nothing here observes.
+//
+// Samples where the car reverses are found as those whose offset is more than 90 deg from the
+// circular mean offset of all moving samples, and excluded.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "x2car/core/planar_track.hpp"
+#include "x2car/core/segment_average.hpp"
+#include "x2car/core/segmentation.hpp"
+
+namespace x2car {
+
+// A sensor's pose over time in a local ENU world, one entry per sample.
+struct SensorTrack {
+  std::vector<double> time;                   // [s], strictly increasing
+  std::vector<Eigen::Vector3d> position_enu;  // of the sensor [m]
+  std::vector<Eigen::Matrix3d> world_from_sensor;
+  // Of the sensor [m/s]; empty: taken from the spline of the positions.
+  std::vector<Eigen::Vector3d> velocity_enu;
+};
+
+struct TrackAlignmentOptions {
+  PlanarTrackOptions track;  // x(t), y(t) smoother; z(t) uses the same spline options
+  // The paper's gates: speed >= 3 m/s, |curvature| <= 0.01 1/m, runs of at least 5 s. A second is
+  // trimmed off each run's ends, where a turn's heading rate fades in or out.
+  SegmentationOptions segments{.min_speed = 3.0,
+                               .max_abs_curvature = 0.01,
+                               .min_duration_s = 5.0,
+                               .max_gap_s = 0.5,
+                               .end_trim_s = 1.0};
+  SegmentAverageOptions average;
+  // Less valid driving than this (summed over the segments) is insufficient data [s].
+  double min_valid_duration_s = 20.0;
+  // Samples slower than this are not tested for reversing (their direction is noise) [m/s].
+  double reversing_test_min_speed = 0.5;
+
+  // Throws std::invalid_argument naming the offending field.
+  void Check() const;
+};
+
+struct TrackAlignment {
+  // Per sample (all samples of the input, in order).
+  PlanarTrackSamples track;             // smoothed track: speed, heading_enu, curvature
+  std::vector<double> sensor_heading;   // ZYX yaw of world_from_sensor [rad]
+  std::vector<double> heading_offset;   // wrap(sensor_heading - track heading) [rad]
+  std::vector<double> velocity_yaw;     // per-sample yaw of the velocity method [rad]
+  std::vector<double> velocity_pitch;   // per-sample pitch of the velocity method [rad]
+  std::vector<std::uint8_t> reversing;  // 1 where the car moved backwards
+  // Samples not reversing but with a zero or vertical velocity (no direction to compare with).
+  std::int64_t without_direction = 0;
+  bool velocity_from_sensor = false;  // the input's velocities were used (else the spline's)
+
+  // rejections.excluded counts the reversing samples plus those without a direction.
+  Segmentation segmentation;
+  double valid_duration_s = 0.0;
+
+  // Set when there is too little valid driving; then the estimates below are empty.
+  std::optional<std::string> insufficient_reason;
+  std::optional<SegmentAverage> yaw;                      // track-heading method
+  std::optional<SegmentAverage> velocity_yaw_estimate;    // velocity-direction method
+  std::optional<SegmentAverage> velocity_pitch_estimate;  // velocity-direction method
+};
+
+// Throws std::invalid_argument when the track's vectors differ in length, has fewer samples than
+// the spline needs, or times do not strictly increase (readers check this with a better message).
+TrackAlignment align_track(const SensorTrack& sensor_track,
+                           const TrackAlignmentOptions& options = {});
+
+}  // namespace x2car
