@@ -54,6 +54,9 @@ struct CalibrationResult {
   std::map<std::string, std::int64_t> support;
   // What was left out and why, e.g. {"slow": 1200, "curved": 830, "outlier": 12}.
   std::map<std::string, std::int64_t> rejections;
+  // Figures that back or qualify the estimate, each named with its unit, e.g.
+  // {"velocity_method_yaw_deg": 2.013, "track_residual_std_m": 0.021}.
+  std::map<std::string, double> diagnostics;
   std::vector<Series> series;
 
   double seconds = 0.0;  // wall time the calibration took [s]

@@ -42,6 +42,14 @@ Json counts_to_json(const std::map<std::string, std::int64_t>& counts) {
   return json;
 }
 
+Json diagnostics_to_json(const CalibrationResult& result) {
+  Json json = Json::object();
+  for (const auto& [name, value] : result.diagnostics) {
+    json[name] = checked(value, result, ("diagnostics." + name).c_str());
+  }
+  return json;
+}
+
 // NaN (a gap in a plot) becomes null, which the reader turns back into NaN; JSON has no NaN.
 Json values_to_json(const std::vector<double>& values) {
   Json array = Json::array();
@@ -168,6 +176,18 @@ std::map<std::string, std::int64_t> counts_from_json(const Json& object, std::st
   return counts;
 }
 
+std::map<std::string, double> diagnostics_from_json(const Json& object,
+                                                    const JsonContext& context) {
+  std::map<std::string, double> diagnostics;
+  const Json* members = object_member(object, "diagnostics", context);
+  if (members == nullptr) return diagnostics;
+  const JsonContext inner = context.nested("diagnostics");
+  for (const auto& item : members->items()) {
+    diagnostics[item.key()] = finite_number(item.value(), inner, item.key());
+  }
+  return diagnostics;
+}
+
 std::vector<double> numbers_from_json(const Json& object, std::string_view key,
                                       const JsonContext& context, bool null_is_nan) {
   const Json* array = find_member(object, key);
@@ -239,6 +259,7 @@ CalibrationResult read_result(const Json& json, const JsonContext& context) {
   read_std(json, context, result);
   result.support = counts_from_json(json, "support", context);
   result.rejections = counts_from_json(json, "rejections", context);
+  result.diagnostics = diagnostics_from_json(json, context);
   result.seconds = optional_number(json, "seconds", context).value_or(0.0);
   result.series = series_list_from_json(json, context);
   return result;
@@ -275,6 +296,7 @@ Json result_to_json(const CalibrationResult& result, const ResultJsonOptions& op
   json["std_deg"] = std_to_json(result);
   json["support"] = counts_to_json(result.support);
   json["rejections"] = counts_to_json(result.rejections);
+  json["diagnostics"] = diagnostics_to_json(result);
   json["seconds"] = checked(result.seconds, result, "seconds");
   if (options.include_series) json["series"] = series_to_json(result.series);
   return json;

@@ -2,7 +2,8 @@
 //   {"sensor", "status": "ok" | "insufficient_data", "reason", "method",
 //    "roll_deg", "pitch_deg", "yaw_deg", ["x_m", "y_m",] "z_m",
 //    "std_deg": {"roll", "pitch", "yaw"[, "z_m"]}, "support": {...}, "rejections": {...},
-//    "seconds", "series": [{"name", "unit", "time": [...], "value": [...]}]}
+//    "diagnostics": {name_with_unit: number}, "seconds", "series": [{"name", "unit", "time": [...],
+//    "value": [...]}]}
 // Radians inside the library, degrees in the JSON. An angle the method cannot observe is null,
 // never 0; "x_m"/"y_m" appear only when known, "z_m" is always present (null when unknown).
 // Series values that are NaN are written as null and read back as NaN.

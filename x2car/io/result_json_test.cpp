@@ -37,6 +37,7 @@ CalibrationResult lidar_result() {
   result.z_std = 0.004;
   result.support = {{"frames", 1200}, {"segments", 7}};
   result.rejections = {{"turning", 310}, {"outlier", 2}};
+  result.diagnostics = {{"velocity_method_yaw_deg", 2.0125}, {"track_residual_std_m", 0.021}};
   result.series = {{"yaw_per_segment", "rad", {0.0, 10.5}, {0.0349, 0.0350}},
                    {"ground_height", "m", {}, {1.82, std::numeric_limits<double>::quiet_NaN()}}};
   result.seconds = 3.25;
@@ -79,6 +80,7 @@ void expect_same_result(const CalibrationResult& actual, const CalibrationResult
   expect_near(actual.z_std, expected.z_std, "z_std");
   EXPECT_EQ(actual.support, expected.support);
   EXPECT_EQ(actual.rejections, expected.rejections);
+  EXPECT_EQ(actual.diagnostics, expected.diagnostics);
   EXPECT_EQ(actual.seconds, expected.seconds);
   ASSERT_EQ(actual.series.size(), expected.series.size());
   for (std::size_t i = 0; i < actual.series.size(); ++i) {
@@ -158,6 +160,9 @@ TEST(ResultJson, NonFiniteEstimateIsABugNotANull) {
   CalibrationResult result = ins_result();
   result.yaw = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(result_to_json(result), std::invalid_argument);
+  CalibrationResult bad_diagnostic = ins_result();
+  bad_diagnostic.diagnostics["lever_m"] = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(result_to_json(bad_diagnostic), std::invalid_argument);
 }
 
 TEST(ResultJson, WrongTypesAreRejectedNamingTheField) {
@@ -165,6 +170,8 @@ TEST(ResultJson, WrongTypesAreRejectedNamingTheField) {
   EXPECT_EQ(input_error_of(head + R"("yaw_deg": "2"})").field(), "yaw_deg");
   EXPECT_EQ(input_error_of(head + R"("std_deg": {"roll": true}})").field(), "std_deg.roll");
   EXPECT_EQ(input_error_of(head + R"("support": {"samples": 1.5}})").field(), "support.samples");
+  EXPECT_EQ(input_error_of(head + R"("diagnostics": {"lever_m": "1"}})").field(),
+            "diagnostics.lever_m");
   EXPECT_EQ(input_error_of(head + R"("series": [{"name": "a", "value": ["x"]}]})").field(),
             "series[0].value[0]");
   EXPECT_EQ(
