@@ -41,6 +41,24 @@ std::vector<Eigen::Vector3d> sensor_velocities(const SensorTrack& track, const P
   return velocities;
 }
 
+// Curvature [1/m] from the sensor's yaw rate: d(heading)/dt of a P-spline through the unwrapped
+// heading, over the track's speed; 0 where the car stands.
+std::vector<double> yaw_rate_curvature(std::span<const double> times,
+                                       std::span<const double> headings,
+                                       std::span<const double> speeds,
+                                       const PSplineOptions& spline_options) {
+  std::vector<double> unwrapped(headings.begin(), headings.end());
+  for (std::size_t i = 1; i < unwrapped.size(); ++i) {
+    unwrapped[i] = unwrapped[i - 1] + angle_difference(headings[i], headings[i - 1]);
+  }
+  const PSpline heading_of_time = fit_pspline(times, unwrapped, spline_options);
+  std::vector<double> curvature(times.size(), 0.0);
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    if (speeds[i] > 0.0) curvature[i] = heading_of_time.derivative(times[i], 1) / speeds[i];
+  }
+  return curvature;
+}
+
 // Flags samples whose heading offset is more than 90 deg from the mean offset of all moving
 // samples: the car was going backwards, so the track's heading is the car's plus pi.
 std::vector<std::uint8_t> find_reversing(std::span<const double> offsets,
@@ -77,6 +95,46 @@ void velocity_direction_angles(const Eigen::Vector3d& velocity_enu,
   pitch = -std::asin(std::clamp(x_sensor.dot(z_vehicle), -1.0, 1.0));
 }
 
+// Longitudinal acceleration [m/s^2] of the planar track: the projection of (x'', y'') on the
+// direction of motion.
+std::vector<double> longitudinal_accelerations(const PlanarTrack& track,
+                                               std::span<const double> times) {
+  std::vector<double> accelerations(times.size(), 0.0);
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    const PlanarTrackState state = track.state(times[i]);
+    if (!(state.speed > 0.0)) continue;
+    const double ax = track.x_spline().derivative(times[i], 2);
+    const double ay = track.y_spline().derivative(times[i], 2);
+    accelerations[i] = (state.velocity_x * ax + state.velocity_y * ay) / state.speed;
+  }
+  return accelerations;
+}
+
+// Least-squares slope of the inlier pitches on the acceleration; 0 when the acceleration hardly
+// varies (the slope would be noise).
+double fit_pitch_per_acceleration(std::span<const double> pitches,
+                                  std::span<const double> accelerations,
+                                  const SegmentAverage& first_pass, double min_spread) {
+  double sum_a = 0.0, sum_p = 0.0, count = 0.0;
+  for (std::size_t i = 0; i < pitches.size(); ++i) {
+    if (first_pass.inliers[i] == 0) continue;
+    sum_a += accelerations[i];
+    sum_p += angle_difference(pitches[i], first_pass.value);
+    count += 1.0;
+  }
+  if (count < 3.0) return 0.0;
+  const double mean_a = sum_a / count, mean_p = sum_p / count;
+  double covariance = 0.0, variance = 0.0;
+  for (std::size_t i = 0; i < pitches.size(); ++i) {
+    if (first_pass.inliers[i] == 0) continue;
+    const double da = accelerations[i] - mean_a;
+    covariance += da * (angle_difference(pitches[i], first_pass.value) - mean_p);
+    variance += da * da;
+  }
+  if (variance / count < min_spread * min_spread) return 0.0;
+  return covariance / variance;
+}
+
 std::string describe_shortage(const TrackAlignment& alignment,
                               const TrackAlignmentOptions& options) {
   const SegmentationRejections& r = alignment.segmentation.rejections;
@@ -98,6 +156,9 @@ void TrackAlignmentOptions::Check() const {
   if (!(min_valid_duration_s >= 0.0)) {
     throw std::invalid_argument("track alignment: min_valid_duration_s must be >= 0");
   }
+  if (!(min_acceleration_spread > 0.0)) {
+    throw std::invalid_argument("track alignment: min_acceleration_spread must be positive");
+  }
   if (!(reversing_test_min_speed >= 0.0)) {
     throw std::invalid_argument("track alignment: reversing_test_min_speed must be >= 0");
   }
@@ -116,6 +177,7 @@ TrackAlignment align_track(const SensorTrack& sensor_track, const TrackAlignment
 
   TrackAlignment alignment;
   alignment.track = sample_planar_track(planar, sensor_track.time);
+  alignment.longitudinal_acceleration = longitudinal_accelerations(planar, sensor_track.time);
   alignment.velocity_from_sensor = !sensor_track.velocity_enu.empty();
   const std::vector<Eigen::Vector3d> velocities = sensor_velocities(sensor_track, planar, options);
   alignment.sensor_heading.resize(n);
@@ -140,8 +202,13 @@ TrackAlignment align_track(const SensorTrack& sensor_track, const TrackAlignment
       ++alignment.without_direction;
     }
   }
+  alignment.gate_curvature =
+      options.turn_gate == TurnGate::kSensorYawRate
+          ? yaw_rate_curvature(alignment.track.time, alignment.sensor_heading,
+                               alignment.track.speed, options.track.spline)
+          : alignment.track.curvature;
   alignment.segmentation = segment_runs(alignment.track.time, alignment.track.speed,
-                                        alignment.track.curvature, options.segments, excluded);
+                                        alignment.gate_curvature, options.segments, excluded);
   for (const TimeSegment& segment : alignment.segmentation.segments) {
     alignment.valid_duration_s += segment.duration();
   }
@@ -156,6 +223,17 @@ TrackAlignment align_track(const SensorTrack& sensor_track, const TrackAlignment
       alignment.track.time, alignment.velocity_yaw, alignment.segmentation, options.average);
   alignment.velocity_pitch_estimate = average_over_segments(
       alignment.track.time, alignment.velocity_pitch, alignment.segmentation, options.average);
+  if (options.remove_body_pitch) {
+    alignment.pitch_per_acceleration = fit_pitch_per_acceleration(
+        alignment.velocity_pitch, alignment.longitudinal_acceleration,
+        *alignment.velocity_pitch_estimate, options.min_acceleration_spread);
+    std::vector<double> corrected = alignment.velocity_pitch;
+    for (std::size_t i = 0; i < n; ++i) {
+      corrected[i] -= alignment.pitch_per_acceleration * alignment.longitudinal_acceleration[i];
+    }
+    alignment.velocity_pitch_estimate = average_over_segments(
+        alignment.track.time, corrected, alignment.segmentation, options.average);
+  }
   return alignment;
 }
 

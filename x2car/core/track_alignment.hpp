@@ -41,8 +41,18 @@ struct SensorTrack {
   std::vector<Eigen::Vector3d> velocity_enu;
 };
 
+// Where the curvature that gates out turns comes from.
+enum class TurnGate {
+  // The sensor's yaw rate (a P-spline of its unwrapped heading) over the track's speed. The
+  // attitude of an INS or of LiDAR odometry is far less noisy than a GNSS track's second
+  // derivative: with metre-level position noise the track's curvature rejects most straights.
+  kSensorYawRate,
+  kTrackCurvature,  // the paper's: the curvature of the smoothed track
+};
+
 struct TrackAlignmentOptions {
-  PlanarTrackOptions track;  // x(t), y(t) smoother; z(t) uses the same spline options
+  PlanarTrackOptions track;  // x(t), y(t) smoother; z(t) and the heading use the same options
+  TurnGate turn_gate = TurnGate::kSensorYawRate;
   // The paper's gates: speed >= 3 m/s, |curvature| <= 0.01 1/m, runs of at least 5 s. A second is
   // trimmed off each run's ends, where a turn's heading rate fades in or out.
   SegmentationOptions segments{.min_speed = 3.0,
@@ -51,6 +61,12 @@ struct TrackAlignmentOptions {
                                .max_gap_s = 0.5,
                                .end_trim_s = 1.0};
   SegmentAverageOptions average;
+  // A car's body pitches on its suspension when it speeds up or brakes, so the velocity leaves its
+  // x axis by an angle proportional to the longitudinal acceleration. When set, the per-sample
+  // pitch is regressed on that acceleration and the fitted share removed before averaging.
+  bool remove_body_pitch = true;
+  // The regression is skipped when the acceleration varies less than this [m/s^2] (std).
+  double min_acceleration_spread = 0.05;
   // Less valid driving than this (summed over the segments) is insufficient data [s].
   double min_valid_duration_s = 20.0;
   // Samples slower than this are not tested for reversing (their direction is noise) [m/s].
@@ -62,11 +78,16 @@ struct TrackAlignmentOptions {
 
 struct TrackAlignment {
   // Per sample (all samples of the input, in order).
-  PlanarTrackSamples track;             // smoothed track: speed, heading_enu, curvature
-  std::vector<double> sensor_heading;   // ZYX yaw of world_from_sensor [rad]
-  std::vector<double> heading_offset;   // wrap(sensor_heading - track heading) [rad]
-  std::vector<double> velocity_yaw;     // per-sample yaw of the velocity method [rad]
-  std::vector<double> velocity_pitch;   // per-sample pitch of the velocity method [rad]
+  PlanarTrackSamples track;                       // smoothed track: speed, heading_enu, curvature
+  std::vector<double> gate_curvature;             // what the turn gate tested [1/m]
+  std::vector<double> sensor_heading;             // ZYX yaw of world_from_sensor [rad]
+  std::vector<double> heading_offset;             // wrap(sensor_heading - track heading) [rad]
+  std::vector<double> velocity_yaw;               // per-sample yaw of the velocity method [rad]
+  std::vector<double> velocity_pitch;             // per-sample pitch of the velocity method [rad]
+  std::vector<double> longitudinal_acceleration;  // of the smoothed track [m/s^2]
+  // Fitted body pitch per longitudinal acceleration, removed from velocity_pitch_estimate
+  // [rad / (m/s^2)]; 0 when not fitted. Braking (a < 0) dips the nose (pitch > 0): usually < 0.
+  double pitch_per_acceleration = 0.0;
   std::vector<std::uint8_t> reversing;  // 1 where the car moved backwards
   // Samples not reversing but with a zero or vertical velocity (no direction to compare with).
   std::int64_t without_direction = 0;
