@@ -23,5 +23,9 @@ std::span<const Subcommand> subcommand_table();
 // One entry per file: convert_command.cpp, simulate_command.cpp, ...
 RunCommand setup_convert_command(CLI::App& command);
 RunCommand setup_simulate_command(CLI::App& command);
+RunCommand setup_calibrate_command(CLI::App& command);
+
+// The calibrators under `x2car calibrate`: calibrate_ins_command.cpp, ...
+RunCommand setup_calibrate_ins_command(CLI::App& command);
 
 }  // namespace x2car::cli

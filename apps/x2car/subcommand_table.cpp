@@ -15,6 +15,10 @@ std::span<const Subcommand> subcommand_table() {
                  "Simulate a drive: sensor data and ground truth, the test bench of every "
                  "accuracy claim",
                  &setup_simulate_command},
+      Subcommand{"calibrate",
+                 "Find a sensor's mounting (rotation to the car body) from a drive: calibrate "
+                 "ins",
+                 &setup_calibrate_command},
   };
   return kSubcommands;
 }

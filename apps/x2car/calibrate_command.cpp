@@ -1,0 +1,39 @@
+// x2car calibrate SENSOR: one subcommand per calibrator, each in its own file
+// (calibrate_ins_command.cpp, ...), sharing the output options of calibration_output.hpp.
+#include <array>
+#include <map>
+
+#include "apps/x2car/exit_codes.hpp"
+#include "apps/x2car/subcommand.hpp"
+
+namespace x2car::cli {
+namespace {
+
+constexpr std::array kCalibrators = {
+    Subcommand{"ins",
+               "GNSS/INS -> car: yaw (track heading or velocity direction) and pitch "
+               "(non-holonomic), from a novatel_enu.csv, generic CSV or KITTI OXTS log",
+               &setup_calibrate_ins_command},
+};
+
+}  // namespace
+
+RunCommand setup_calibrate_command(CLI::App& command) {
+  command.require_subcommand(1);
+  auto runners = std::make_shared<std::map<CLI::App*, RunCommand>>();
+  for (const Subcommand& calibrator : kCalibrators) {
+    CLI::App* sub = command.add_subcommand(calibrator.name, calibrator.summary);
+    (*runners)[sub] = calibrator.setup(*sub);
+  }
+  command.footer(
+      "Exit codes: 0 a result, 1 too little usable data (the reason is printed), 2 usage or input "
+      "error.\nRun 'x2car calibrate SENSOR --help' for one sensor's options.");
+  return [runners] {
+    for (const auto& [sub, run] : *runners) {
+      if (sub->parsed()) return run();
+    }
+    return static_cast<int>(kExitUsageOrInputError);  // unreachable: a sensor is required
+  };
+}
+
+}  // namespace x2car::cli

@@ -1,0 +1,88 @@
+#include "apps/x2car/calibration_output.hpp"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <iostream>
+#include <optional>
+
+#include "apps/x2car/exit_codes.hpp"
+#include "x2car/io/extrinsic_formats.hpp"
+#include "x2car/io/result_json.hpp"
+#include "x2car/io/text_lines.hpp"
+
+namespace x2car::cli {
+namespace {
+
+std::string angle_line(const char* name, const std::optional<double>& value,
+                       const std::optional<double>& standard_error) {
+  if (!value) return fmt::format("  {:<6} not observable by this method\n", name);
+  return fmt::format("  {:<6} {:9.4f} deg  +- {:.4f} deg (standard error)\n", name,
+                     deg_from_rad(*value), deg_from_rad(standard_error.value_or(0.0)));
+}
+
+std::string counts_line(const char* title, const std::map<std::string, std::int64_t>& counts) {
+  std::string line = fmt::format("  {}:", title);
+  for (const auto& [name, count] : counts) line += fmt::format(" {} {},", name, count);
+  if (!counts.empty()) line.pop_back();
+  return line + "\n";
+}
+
+}  // namespace
+
+void add_output_options(CLI::App& command, OutputArguments& arguments) {
+  command.add_option("-o,--out", arguments.json_path, "Write the result JSON to FILE")
+      ->type_name("FILE");
+  command
+      .add_option("--yaml", arguments.yaml_path,
+                  "Also write the mounting as Autoware sensor_kit_calibration.yaml")
+      ->type_name("FILE");
+  command.add_option("--urdf", arguments.urdf_path, "Also write the mounting as a URDF joint")
+      ->type_name("FILE");
+  command.add_flag("--without-series", arguments.without_series,
+                   "Leave the per-sample series out of the JSON (smaller file)");
+}
+
+std::string format_result_summary(const CalibrationResult& result) {
+  std::string text;
+  if (!result.ok()) {
+    return fmt::format("{}: insufficient data: {}\n", result.sensor, result.reason);
+  }
+  text += fmt::format("{}: vehicle_from_{} (method {}), {:.3f} s\n", result.sensor, result.sensor,
+                      result.method.empty() ? "-" : result.method, result.seconds);
+  text += angle_line("roll", result.roll, result.roll_std);
+  text += angle_line("pitch", result.pitch, result.pitch_std);
+  text += angle_line("yaw", result.yaw, result.yaw_std);
+  if (result.z) {
+    text += fmt::format("  {:<6} {:9.4f} m    +- {:.4f} m\n", "z", *result.z,
+                        result.z_std.value_or(0.0));
+  }
+  text += counts_line("support", result.support);
+  text += counts_line("rejected", result.rejections);
+  if (!result.reason.empty()) text += fmt::format("  note: {}\n", result.reason);
+  return text;
+}
+
+int finish_calibration(const CalibrationResult& result, const OutputArguments& arguments) {
+  std::cout << format_result_summary(result);
+  if (!arguments.json_path.empty()) {
+    io::write_result_json(arguments.json_path, result,
+                          {.include_series = !arguments.without_series});
+    spdlog::info("wrote {}", arguments.json_path);
+  }
+  if (!result.ok()) {
+    if (!arguments.yaml_path.empty() || !arguments.urdf_path.empty()) {
+      spdlog::warn("no mounting to write to the YAML/URDF files: {}", result.reason);
+    }
+    return kExitInsufficientData;
+  }
+  if (!arguments.yaml_path.empty()) {
+    io::write_text_file(arguments.yaml_path, io::format_result_autoware(result));
+  }
+  if (!arguments.urdf_path.empty()) {
+    io::write_text_file(arguments.urdf_path, io::format_result_urdf(result));
+  }
+  return kExitOk;
+}
+
+}  // namespace x2car::cli

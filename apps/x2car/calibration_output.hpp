@@ -1,0 +1,28 @@
+// What every `x2car calibrate SENSOR` does after its calibrator ran: print the result for a person,
+// write it where asked (JSON, Autoware YAML, URDF) and turn its status into the exit code.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "x2car/core/calibration_result.hpp"
+
+namespace x2car::cli {
+
+struct OutputArguments {
+  std::string json_path;  // --out: the result JSON (DESIGN §6)
+  std::string yaml_path;  // --yaml: Autoware sensor_kit_calibration.yaml style
+  std::string urdf_path;  // --urdf: a URDF joint
+  bool without_series = false;
+};
+
+void add_output_options(CLI::App& command, OutputArguments& arguments);
+
+// Prints the summary to stdout, writes the files (the YAML and URDF only for an ok result) and
+// returns kExitOk or kExitInsufficientData.
+int finish_calibration(const CalibrationResult& result, const OutputArguments& arguments);
+
+// "yaw 2.013 deg +- 0.004" lines, unobserved angles as "not observable".
+std::string format_result_summary(const CalibrationResult& result);
+
+}  // namespace x2car::cli

@@ -1,0 +1,45 @@
+// Reading a GNSS/INS log in any of the forms x2car accepts, with the form detected from the path:
+//   - the reference layout `novatel_enu.csv` (io/novatel_csv.hpp): a file whose header's first
+//     field is `gps_time`;
+//   - the generic CSV with a header (io/ins_csv.hpp): any other file;
+//   - a KITTI raw OXTS folder (io/oxts.hpp): a directory holding `oxts/` or `data/` +
+//     `timestamps.txt`.
+// Every reader returns records in x2car's conventions (DESIGN §1): ENU positions in a local tangent
+// frame, ENU velocities, world_from_ins as ZYX roll, pitch and yaw counter-clockwise from east.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "x2car/io/ins_csv.hpp"
+
+namespace x2car::io {
+
+enum class InsFormat { kAuto, kNovatel, kCsv, kOxts };
+
+// "auto", "novatel", "csv", "oxts"; parsing throws std::invalid_argument listing the names.
+const char* to_string(InsFormat format);
+InsFormat ins_format_from_string(const std::string& text);
+std::vector<std::string> ins_format_names();
+
+struct InsReadOptions {
+  InsFormat format = InsFormat::kAuto;
+  InsCsvOptions csv;  // how the generic CSV's columns are read
+};
+
+struct InsLog {
+  InsFormat format = InsFormat::kAuto;  // the form that was read (never kAuto)
+  // UTC of the first record [s since the Unix epoch] when the log carries absolute times.
+  std::optional<double> start_unix_time;
+  std::vector<InsRecord> records;  // times [s], strictly increasing
+};
+
+// The form of `path` as kAuto would read it. Throws InputError when the path does not exist.
+InsFormat detect_ins_format(const std::filesystem::path& path);
+
+// Throws InputError naming the file, line and field on any malformed input (see each reader).
+InsLog read_ins_log(const std::filesystem::path& path, const InsReadOptions& options = {});
+
+}  // namespace x2car::io
