@@ -16,5 +16,9 @@ function(x2car_tests name)
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPENDS} GTest::gtest GTest::gmock GTest::gtest_main
                                         x2car_warnings)
-  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60)
+  # Test suites named *Timing measure wall time: they run alone, so that a parallel ctest does not
+  # take their cores.
+  gtest_discover_tests(${name} TEST_FILTER "-*Timing.*" DISCOVERY_TIMEOUT 60)
+  gtest_discover_tests(${name} TEST_FILTER "*Timing.*" DISCOVERY_TIMEOUT 60
+                       PROPERTIES RUN_SERIAL TRUE)
 endfunction()

@@ -186,4 +186,83 @@ TEST(Simulate, BadArgumentsExitWithTwo) {
 }
 
 }  // namespace
+namespace {
+
+// A drive simulated once for the calibrate tests, with the GNSS/INS yawed 2 deg left and pitched
+// 1 deg down.
+std::filesystem::path simulated_drive() {
+  static const std::filesystem::path folder = [] {
+    const auto out = std::filesystem::path(::testing::TempDir()) / "cli_calibrate_drive";
+    std::filesystem::remove_all(out);
+    const auto mounting =
+        write_temp_file("ins_mounting.yaml",
+                        "vehicle_from_ins:\n  x: 1.2\n  y: 0.1\n  z: 1.0\n  roll: 0.01\n"
+                        "  pitch: 0.017453292519943295\n  yaw: 0.03490658503988659\n");
+    const CliRun run = run_x2car("simulate --scenario urban --duration 120 --seed 5 --out " +
+                                 out.string() + " --mounting " + mounting.string());
+    EXPECT_EQ(run.exit_code, 0) << run.output;
+    return out;
+  }();
+  return folder;
+}
+
+TEST(CalibrateIns, RecoversTheSimulatedMountingAndWritesEveryForm) {
+  const auto drive = simulated_drive();
+  const auto json = drive / "ins_result.json";
+  const auto yaml = drive / "ins_result.yaml";
+  const auto urdf = drive / "ins_result.urdf";
+  const CliRun run =
+      run_x2car("calibrate ins --input " + (drive / "ins/novatel_enu.csv").string() + " --out " +
+                json.string() + " --yaml " + yaml.string() + " --urdf " + urdf.string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("roll   not observable"));
+  std::ifstream file(json);
+  const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  EXPECT_THAT(text, HasSubstr("\"roll_deg\": null"));
+  // "yaw_deg": 2.0xx and "pitch_deg": 1.0xx within 0.05 deg.
+  const auto number_after = [&](const std::string& key) {
+    const std::size_t at = text.find("\"" + key + "\": ");
+    return at == std::string::npos ? NAN : std::stod(text.substr(at + key.size() + 4));
+  };
+  EXPECT_NEAR(number_after("yaw_deg"), 2.0, 0.05);
+  EXPECT_NEAR(number_after("pitch_deg"), 1.0, 0.05);
+  EXPECT_TRUE(std::filesystem::exists(yaml));
+  EXPECT_TRUE(std::filesystem::exists(urdf));
+  // The generic CSV of the same drive gives the same answer.
+  const CliRun generic = run_x2car("calibrate ins --input " + (drive / "ins/ins.csv").string());
+  ASSERT_EQ(generic.exit_code, 0) << generic.output;
+  EXPECT_THAT(generic.output, HasSubstr("yaw"));
+}
+
+TEST(CalibrateIns, TurningOnlyExitsWithOneAndSaysWhatIsMissing) {
+  // 10 s on a 30 m circle at 8 m/s.
+  std::string csv = "time,x,y,z,vx,vy,vz,roll,pitch,yaw\n";
+  for (int i = 0; i <= 1000; ++i) {
+    const double t = i * 0.01, angle = 8.0 * t / 30.0;
+    csv += std::to_string(t) + "," + std::to_string(30 * std::sin(angle)) + "," +
+           std::to_string(30 * (1 - std::cos(angle))) + ",0," +
+           std::to_string(8 * std::cos(angle)) + "," + std::to_string(8 * std::sin(angle)) +
+           ",0,0,0," + std::to_string(angle) + "\n";
+  }
+  const auto file = write_temp_file("circle_ins.csv", csv);
+  const CliRun run = run_x2car("calibrate ins --input " + file.string());
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("insufficient data"));
+  EXPECT_THAT(run.output, HasSubstr("need 20 s"));
+}
+
+TEST(CalibrateIns, BadInputExitsWithTwoNamingTheFileAndLine) {
+  const auto file = write_temp_file("nan_ins.csv",
+                                    "time,x,y,z,vx,vy,vz,roll,pitch,yaw\n0,0,0,0,0,0,0,0,0,0\n"
+                                    "0.01,nan,0,0,0,0,0,0,0,0\n");
+  const CliRun run = run_x2car("calibrate ins --input " + file.string());
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_THAT(run.output, HasSubstr(file.string()));
+  EXPECT_THAT(run.output, HasSubstr("3"));
+  EXPECT_EQ(run_x2car("calibrate ins --input /no/such/file.csv").exit_code, 2);
+  EXPECT_EQ(run_x2car("calibrate ins").exit_code, 2);
+  EXPECT_EQ(run_x2car("calibrate").exit_code, 2);
+}
+
+}  // namespace
 }  // namespace x2car::cli

@@ -218,7 +218,7 @@ TEST(PlanarTrack, SamplesMatchStateAndRejectBadInput) {
 
 // 10 min at 100 Hz (60 000 samples, ~1 200 coefficients) with GCV: the brief is well under 0.1 s
 // in release; asserted only < 1 s because CI machines vary, and only in optimised builds.
-TEST(PlanarTrack, FitsTenMinutesAt100HzQuickly) {
+TEST(PlanarTrackTiming, FitsTenMinutesAt100HzQuickly) {
   const auto weave = [](double t) {
     return TruePose{10.0 * t + 30.0 * std::sin(0.05 * t), 40.0 * std::sin(0.03 * t), 0.0, 0.0};
   };

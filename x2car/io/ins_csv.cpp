@@ -2,7 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
+#include <cctype>
+#include <climits>
+#include <cmath>
+#include <cstdint>
 #include <stdexcept>
 
 #include "x2car/core/error.hpp"
@@ -11,8 +16,255 @@
 namespace x2car::io {
 namespace {
 
-constexpr std::array<const char*, 10> kColumns{"time", "x",  "y",    "z",     "vx",
-                                               "vy",   "vz", "roll", "pitch", "yaw"};
+// ---- columns -----------------------------------------------------------------------------------
+
+// The quantities a column can give; each needs at most one column.
+// clang-format off
+enum class Slot { kTime, kX, kY, kZ, kLat, kLon, kAlt, kVe, kVn, kVu, kRoll, kPitch, kYaw, kStatus,
+                  kCount };
+// clang-format on
+constexpr std::size_t kSlotCount = static_cast<std::size_t>(Slot::kCount);
+
+struct Alias {
+  std::string_view name;  // lower case
+  Slot slot;
+};
+
+constexpr std::array<Alias, 30> kAliases{{
+    {"time", Slot::kTime},     {"time_s", Slot::kTime},  {"time_ns", Slot::kTime},
+    {"x", Slot::kX},           {"east", Slot::kX},       {"y", Slot::kY},
+    {"north", Slot::kY},       {"z", Slot::kZ},          {"up", Slot::kZ},
+    {"lat", Slot::kLat},       {"latitude", Slot::kLat}, {"lon", Slot::kLon},
+    {"longitude", Slot::kLon}, {"alt", Slot::kAlt},      {"altitude", Slot::kAlt},
+    {"vx", Slot::kVe},         {"ve", Slot::kVe},        {"v_east", Slot::kVe},
+    {"vy", Slot::kVn},         {"vn", Slot::kVn},        {"v_north", Slot::kVn},
+    {"vz", Slot::kVu},         {"vu", Slot::kVu},        {"v_up", Slot::kVu},
+    {"roll", Slot::kRoll},     {"pitch", Slot::kPitch},  {"yaw", Slot::kYaw},
+    {"heading", Slot::kYaw},   {"azimuth", Slot::kYaw},  {"status", Slot::kStatus},
+}};
+
+constexpr std::array<Slot, 3> kEnuSlots{Slot::kX, Slot::kY, Slot::kZ};
+constexpr std::array<Slot, 3> kGeodeticSlots{Slot::kLat, Slot::kLon, Slot::kAlt};
+constexpr std::array<Slot, 3> kVelocitySlots{Slot::kVe, Slot::kVn, Slot::kVu};
+
+std::size_t index_of(Slot slot) { return static_cast<std::size_t>(slot); }
+bool is_angle(Slot slot) {
+  return slot == Slot::kRoll || slot == Slot::kPitch || slot == Slot::kYaw;
+}
+bool is_lat_lon(Slot slot) { return slot == Slot::kLat || slot == Slot::kLon; }
+
+std::optional<Slot> slot_of(std::string_view lower_name) {
+  for (const Alias& alias : kAliases) {
+    if (alias.name == lower_name) return alias.slot;
+  }
+  return std::nullopt;
+}
+
+// "'x' or 'east'": the names a missing column may have.
+std::string accepted_names(Slot slot) {
+  std::vector<std::string> names;
+  for (const Alias& alias : kAliases) {
+    if (alias.slot == slot) names.push_back(fmt::format("'{}'", alias.name));
+  }
+  return join(names, " or ");
+}
+
+struct Column {
+  std::size_t index = 0;  // zero-based position in a row
+  std::string name;       // as the header writes it, for messages
+  std::string alias;      // lower case, without a unit suffix ("time_ns", "heading")
+  double scale = 1.0;     // to radians (angles) or degrees (latitude, longitude)
+};
+
+std::string lower_case(std::string_view text) {
+  std::string lower(text);
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return lower;
+}
+
+// The slot and scale of a header name; angles and latitude/longitude may carry `_deg` or `_rad`.
+std::optional<std::pair<Slot, Column>> match_column(std::string_view written, std::size_t index,
+                                                    const InsCsvOptions& options) {
+  const std::string lower = lower_case(written);
+  const double default_angle_scale =
+      options.angle_unit == AngleUnit::kDegrees ? rad_from_deg(1.0) : 1.0;
+  if (const std::optional<Slot> slot = slot_of(lower)) {
+    return std::pair{*slot, Column{index, std::string(written), lower,
+                                   is_angle(*slot) ? default_angle_scale : 1.0}};
+  }
+  for (const bool degrees : {true, false}) {
+    const std::string_view suffix = degrees ? "_deg" : "_rad";
+    if (!lower.ends_with(suffix)) continue;
+    const std::string alias = lower.substr(0, lower.size() - suffix.size());
+    const std::optional<Slot> slot = slot_of(alias);
+    if (!slot || !(is_angle(*slot) || is_lat_lon(*slot))) return std::nullopt;
+    const double scale =
+        is_angle(*slot) ? (degrees ? rad_from_deg(1.0) : 1.0) : (degrees ? 1.0 : deg_from_rad(1.0));
+    return std::pair{*slot, Column{index, std::string(written), alias, scale}};
+  }
+  return std::nullopt;
+}
+
+// ---- header ------------------------------------------------------------------------------------
+
+struct Layout {
+  std::size_t header_line = 0;
+  std::size_t field_count = 0;
+  std::array<std::optional<Column>, kSlotCount> columns;
+  bool geodetic = false;
+  bool time_ns = false;
+  bool yaw_is_azimuth = false;
+
+  const std::optional<Column>& operator[](Slot slot) const { return columns[index_of(slot)]; }
+  bool has_any(std::span<const Slot> slots) const {
+    return std::any_of(slots.begin(), slots.end(), [&](Slot s) { return (*this)[s].has_value(); });
+  }
+};
+
+void add_missing(const Layout& layout, std::span<const Slot> slots, std::vector<std::string>& out,
+                 std::string_view note = {}) {
+  for (const Slot slot : slots) {
+    if (!layout[slot]) out.push_back(accepted_names(slot) + std::string(note));
+  }
+}
+
+// Every required column that is absent, as one message listing what is accepted.
+void check_required(const Layout& layout, const std::string& source) {
+  std::vector<std::string> missing;
+  const std::array<Slot, 1> time{Slot::kTime};
+  add_missing(layout, time, missing);
+  const bool enu = layout.has_any(kEnuSlots);
+  const bool geodetic = layout.has_any(kGeodeticSlots);
+  if (!enu && !geodetic) {
+    missing.emplace_back(
+        "a position: 'x,y,z' or 'east,north,up' (ENU [m]), or 'lat,lon,alt' or "
+        "'latitude,longitude,altitude' ([deg], [deg], [m])");
+  } else if (enu != geodetic) {  // both: reported after this check
+    add_missing(layout, enu ? kEnuSlots : kGeodeticSlots, missing);
+  }
+  if (layout.has_any(kVelocitySlots)) {
+    add_missing(layout, kVelocitySlots, missing, " (velocity is optional, but needs all three)");
+  }
+  const std::array<Slot, 3> attitude{Slot::kRoll, Slot::kPitch, Slot::kYaw};
+  add_missing(layout, attitude, missing);
+  if (missing.empty()) return;
+  throw InputError(source, layout.header_line, {},
+                   fmt::format("missing column(s): {} (names are case-insensitive; angles in "
+                               "radians, or in degrees with a '_deg' suffix)",
+                               join(missing, "; ")));
+}
+
+Layout parse_header(const TextLine& header, const InsCsvOptions& options,
+                    const std::string& source) {
+  const std::vector<std::string_view> names = split_fields(header.text);
+  Layout layout;
+  layout.header_line = header.number;
+  layout.field_count = names.size();
+  std::optional<InputError> duplicate;  // reported after the missing columns
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    std::optional<std::pair<Slot, Column>> match = match_column(names[i], i, options);
+    if (!match) continue;  // unknown columns are ignored
+    std::optional<Column>& column = layout.columns[index_of(match->first)];
+    if (column && !duplicate) {
+      duplicate = InputError(source, header.number, std::string(names[i]),
+                             fmt::format("columns '{}' ({}) and '{}' ({}) give the same quantity; "
+                                         "keep one",
+                                         column->name, column->index + 1, names[i], i + 1));
+    }
+    if (!column) column = std::move(match->second);
+  }
+  layout.geodetic = !layout.has_any(kEnuSlots) && layout.has_any(kGeodeticSlots);
+  check_required(layout, source);
+  if (duplicate) throw *duplicate;
+  if (layout.has_any(kEnuSlots) && layout.has_any(kGeodeticSlots)) {
+    const auto first = [&](std::span<const Slot> slots) {
+      for (const Slot s : slots) {
+        if (layout[s]) return layout[s]->name;
+      }
+      return std::string();
+    };
+    const std::string geodetic_name = first(kGeodeticSlots);
+    throw InputError(source, header.number, geodetic_name,
+                     fmt::format("both an ENU position ('{}') and a geodetic one ('{}'); keep one",
+                                 first(kEnuSlots), geodetic_name));
+  }
+  layout.time_ns = layout[Slot::kTime]->alias == "time_ns";
+  layout.yaw_is_azimuth = options.yaw_convention
+                              ? *options.yaw_convention == YawConvention::kAzimuth
+                              : layout[Slot::kYaw]->alias != "yaw";
+  return layout;
+}
+
+// ---- rows --------------------------------------------------------------------------------------
+
+struct ParsedRow {
+  InsRecord record;  // position_enu unset for a geodetic file; time unset for time_ns
+  std::int64_t time_ns = 0;
+  GeodeticPosition geodetic;
+};
+
+int parse_status(std::string_view text, const FieldLocation& where) {
+  const double value = parse_double(text, where);
+  if (value != std::floor(value) || value < INT_MIN || value > INT_MAX) {
+    throw InputError(where.file, where.line, where.field,
+                     fmt::format("status must be an integer, found '{}'", text));
+  }
+  return static_cast<int>(value);
+}
+
+ParsedRow parse_row(const TextLine& line, const Layout& layout, const std::string& source) {
+  const std::vector<std::string_view> fields = split_fields(line.text);
+  if (fields.size() != layout.field_count) {
+    throw InputError(source, line.number, {},
+                     fmt::format("expected {} comma-separated fields as in the header (line {}), "
+                                 "found {}",
+                                 layout.field_count, layout.header_line, fields.size()));
+  }
+  const auto where = [&](Slot s) { return FieldLocation{source, line.number, layout[s]->name}; };
+  const auto value = [&](Slot s) {
+    return parse_double(fields[layout[s]->index], where(s)) * layout[s]->scale;
+  };
+  ParsedRow row;
+  InsRecord& r = row.record;
+  if (layout.time_ns) {
+    row.time_ns = parse_integer(fields[layout[Slot::kTime]->index], where(Slot::kTime));
+  } else {
+    r.time = value(Slot::kTime);
+  }
+  if (layout.geodetic) {
+    row.geodetic = {value(Slot::kLat), value(Slot::kLon), value(Slot::kAlt)};
+    if (std::abs(row.geodetic.latitude_deg) > 90.0) {
+      throw InputError(source, line.number, layout[Slot::kLat]->name,
+                       fmt::format("latitude {} deg is outside [-90, 90]",
+                                   format_number(row.geodetic.latitude_deg)));
+    }
+  } else {
+    r.position_enu = {value(Slot::kX), value(Slot::kY), value(Slot::kZ)};
+  }
+  if (layout[Slot::kVe]) r.velocity_enu = {value(Slot::kVe), value(Slot::kVn), value(Slot::kVu)};
+  const double yaw = value(Slot::kYaw);
+  r.attitude = {value(Slot::kRoll), value(Slot::kPitch),
+                layout.yaw_is_azimuth ? heading_enu_from_azimuth(yaw) : yaw};
+  if (layout[Slot::kStatus]) {
+    r.status = parse_status(fields[layout[Slot::kStatus]->index], where(Slot::kStatus));
+  }
+  return row;
+}
+
+// Positions into the tangent frame at the first row; velocity and attitude from the local-level
+// axes at each row into that frame's axes.
+GeodeticPosition to_local_enu(std::span<const ParsedRow> rows, std::vector<InsRecord>& records) {
+  const LocalEnuFrame frame(rows.front().geodetic);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    InsRecord& r = records[i];
+    const Eigen::Matrix3d frame_from_local_level = frame.frame_from_local_level(rows[i].geodetic);
+    r.position_enu = frame.enu_from_geodetic(rows[i].geodetic);
+    r.velocity_enu = frame_from_local_level * r.velocity_enu;
+    r.attitude = euler_from_rotation(frame_from_local_level * rotation_from_euler(r.attitude));
+  }
+  return frame.origin();
+}
 
 std::string format_row(const InsRecord& r) {
   const Eigen::Vector3d& p = r.position_enu;
@@ -23,18 +275,37 @@ std::string format_row(const InsRecord& r) {
          "\n";
 }
 
-InsRecord parse_row(const TextLine& line, const std::string& source) {
-  const std::vector<std::string_view> fields = split_fields(line.text);
-  const std::vector<double> v = parse_named_doubles(fields, kColumns, source, line.number);
-  InsRecord record;
-  record.time = v[0];
-  record.position_enu = {v[1], v[2], v[3]};
-  record.velocity_enu = {v[4], v[5], v[6]};
-  record.attitude = {v[7], v[8], v[9]};
-  return record;
+}  // namespace
+
+const char* to_string(YawConvention convention) {
+  return convention == YawConvention::kAzimuth ? "azimuth" : "enu";
 }
 
-}  // namespace
+YawConvention yaw_convention_from_string(const std::string& text) {
+  if (text == "enu") return YawConvention::kEnu;
+  if (text == "azimuth") return YawConvention::kAzimuth;
+  throw std::invalid_argument(
+      fmt::format("unknown yaw convention '{}'; expected 'enu' or 'azimuth'", text));
+}
+
+const char* to_string(AngleUnit unit) { return unit == AngleUnit::kDegrees ? "deg" : "rad"; }
+
+AngleUnit angle_unit_from_string(const std::string& text) {
+  if (text == "rad") return AngleUnit::kRadians;
+  if (text == "deg") return AngleUnit::kDegrees;
+  throw std::invalid_argument(
+      fmt::format("unknown angle unit '{}'; expected 'rad' or 'deg'", text));
+}
+
+void InsCsvOptions::Check() const {
+  if (yaw_convention && *yaw_convention != YawConvention::kEnu &&
+      *yaw_convention != YawConvention::kAzimuth) {
+    throw std::invalid_argument("InsCsvOptions: yaw_convention is not a YawConvention");
+  }
+  if (angle_unit != AngleUnit::kRadians && angle_unit != AngleUnit::kDegrees) {
+    throw std::invalid_argument("InsCsvOptions: angle_unit is not an AngleUnit");
+  }
+}
 
 std::string format_ins_csv(std::span<const InsRecord> records) {
   std::string text = std::string(kInsCsvHeader) + "\n";
@@ -46,28 +317,46 @@ void write_ins_csv(const std::filesystem::path& path, std::span<const InsRecord>
   write_text_file(path, format_ins_csv(records));
 }
 
-std::vector<InsRecord> read_ins_csv(const std::filesystem::path& path) {
-  return parse_ins_csv(read_text_file(path), path.string());
+InsCsvLog read_ins_csv_log(const std::filesystem::path& path, const InsCsvOptions& options) {
+  return parse_ins_csv_log(read_text_file(path), path.string(), options);
 }
 
-std::vector<InsRecord> parse_ins_csv(std::string_view text, const std::string& source_name) {
+InsCsvLog parse_ins_csv_log(std::string_view text, const std::string& source_name,
+                            const InsCsvOptions& options) {
+  options.Check();
   const std::vector<TextLine> lines = split_lines(text);
   if (lines.empty()) throw InputError(source_name, "empty file, expected a header line");
-  if (trim(lines.front().text) != kInsCsvHeader) {
-    throw InputError(source_name, lines.front().number, {},
-                     fmt::format("expected the header '{}'", kInsCsvHeader));
-  }
+  const Layout layout = parse_header(lines.front(), options, source_name);
   if (lines.size() == 1) throw InputError(source_name, "no data rows after the header");
-  std::vector<InsRecord> records;
+  std::vector<ParsedRow> rows;
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    rows.push_back(parse_row(lines[i], layout, source_name));
+  }
+  InsCsvLog log;
   std::vector<double> times;
   std::vector<std::size_t> numbers;
-  for (std::size_t i = 1; i < lines.size(); ++i) {
-    records.push_back(parse_row(lines[i], source_name));
-    times.push_back(records.back().time);
-    numbers.push_back(lines[i].number);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    InsRecord& record = log.records.emplace_back(rows[i].record);
+    if (layout.time_ns) {
+      record.time = static_cast<double>(rows[i].time_ns - rows.front().time_ns) / 1e9;
+    }
+    times.push_back(record.time);
+    numbers.push_back(lines[i + 1].number);
   }
-  check_increasing_times(times, numbers, source_name, "time");
-  return records;
+  check_increasing_times(times, numbers, source_name, layout[Slot::kTime]->name);
+  if (layout.time_ns) log.start_unix_time = static_cast<double>(rows.front().time_ns) / 1e9;
+  if (layout.geodetic) log.enu_origin = to_local_enu(rows, log.records);
+  return log;
+}
+
+std::vector<InsRecord> read_ins_csv(const std::filesystem::path& path,
+                                    const InsCsvOptions& options) {
+  return read_ins_csv_log(path, options).records;
+}
+
+std::vector<InsRecord> parse_ins_csv(std::string_view text, const std::string& source_name,
+                                     const InsCsvOptions& options) {
+  return parse_ins_csv_log(text, source_name, options).records;
 }
 
 void check_increasing_times(std::span<const double> times, std::span<const std::size_t> lines,

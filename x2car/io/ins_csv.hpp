@@ -1,20 +1,32 @@
-// One GNSS/INS log in x2car's conventions (DESIGN §1), and its generic CSV form:
+// One GNSS/INS log in x2car's conventions (DESIGN §1), and the generic CSV it is read from.
 //
-//   time,x,y,z,vx,vy,vz,roll,pitch,yaw
+// The reader takes its columns from the header line (names case-insensitive, trimmed, in any
+// order; unknown columns ignored). docs/formats.md lists them; in short:
 //
-// time [s]; x y z: device position in a local ENU frame [m]; vx vy vz: device velocity in ENU
-// [m/s]; roll pitch yaw: world_from_ins = Rz(yaw) Ry(pitch) Rx(roll) [rad], yaw counter-clockwise
-// from east. One header line, comma-separated, one row per sample, times strictly increasing.
+//   time      `time` or `time_s` [s], or `time_ns` (integer ns since the Unix epoch)
+//   position  ENU `x,y,z` (or `east,north,up`) [m], or geodetic `lat,lon,alt` (or
+//             `latitude,longitude,altitude`) [deg, deg, m above WGS84], converted to a local ENU
+//             tangent frame at the first row (io/geodetic.hpp)
+//   velocity  optional: `vx,vy,vz` or `ve,vn,vu` or `v_east,v_north,v_up` [m/s] (ENU)
+//   attitude  `roll`, `pitch` and `yaw` (ENU: counter-clockwise from east) or `heading`/`azimuth`
+//             (clockwise from north) of world_from_ins = Rz(yaw) Ry(pitch) Rx(roll); radians, or
+//             degrees when the name ends in `_deg` (`yaw_deg`)
+//   status    optional integer solution status
+//
+// The writer produces `time,x,y,z,vx,vy,vz,roll,pitch,yaw` (kInsCsvHeader), which reads back
+// exactly.
 #pragma once
 
 #include <Eigen/Core>
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "x2car/core/rotation.hpp"
+#include "x2car/io/geodetic.hpp"
 
 namespace x2car::io {
 
@@ -22,27 +34,76 @@ namespace x2car::io {
 struct InsRecord {
   double time = 0.0;                                       // [s] on the log's clock
   Eigen::Vector3d position_enu = Eigen::Vector3d::Zero();  // of the device [m]
-  Eigen::Vector3d velocity_enu = Eigen::Vector3d::Zero();  // of the device [m/s]
+  // Of the device [m/s]. All zero when the log has no velocity: the calibrator then differentiates
+  // the smoothed track instead.
+  Eigen::Vector3d velocity_enu = Eigen::Vector3d::Zero();
   // world_from_ins as Rz(yaw) Ry(pitch) Rx(roll); yaw counter-clockwise from east [rad].
   EulerAngles attitude;
   // Solution status as the device reports it (the simulator writes NMEA GGA fix quality: 4 RTK
-  // fixed, 5 RTK float, 2 differential, 1 single point); the generic CSV does not carry it.
+  // fixed, 5 RTK float, 2 differential, 1 single point; OXTS folders give their posmode); 0 when
+  // the log has none.
   int status = 0;
+};
+
+// How a heading column counts its angle.
+enum class YawConvention {
+  kEnu,      // counter-clockwise from east (x2car's yaw; ROS, KITTI OXTS)
+  kAzimuth,  // clockwise from north (NovAtel, OxTS NCOM, a compass); yaw_enu = pi/2 - azimuth
+};
+
+enum class AngleUnit { kRadians, kDegrees };
+
+// "enu", "azimuth" and "rad", "deg"; parsing throws std::invalid_argument listing the names.
+const char* to_string(YawConvention convention);
+YawConvention yaw_convention_from_string(const std::string& text);
+const char* to_string(AngleUnit unit);
+AngleUnit angle_unit_from_string(const std::string& text);
+
+struct InsCsvOptions {
+  // Convention of the heading column. Unset (default): the header names it — `yaw` is ENU,
+  // `heading` and `azimuth` are clockwise from north. Set: applies to whichever of the three
+  // names the file uses (for a file whose `yaw` is really an azimuth, or the reverse).
+  std::optional<YawConvention> yaw_convention;
+  // Unit of `roll`, `pitch` and the heading column when the name has no unit suffix. Default
+  // radians; a `_deg` or `_rad` suffix always wins.
+  AngleUnit angle_unit = AngleUnit::kRadians;
+
+  void Check() const;  // throws std::invalid_argument on an enumerator out of range
+};
+
+// A generic CSV as read, with what the file says about its clocks and frames.
+struct InsCsvLog {
+  // UTC of the first row [s since the Unix epoch] when the time column is `time_ns`; the records'
+  // times are then seconds from the first row. Unset for `time`/`time_s` (times kept as written).
+  std::optional<double> start_unix_time;
+  // The first row's geodetic position when the file has lat/lon/alt: the origin of position_enu.
+  // Velocities and attitudes, which a device reports in the local-level axes at its own position,
+  // are turned into the origin's axes (LocalEnuFrame::frame_from_local_level).
+  std::optional<GeodeticPosition> enu_origin;
+  std::vector<InsRecord> records;  // times strictly increasing
 };
 
 // The header line the generic CSV starts with (without the line break).
 constexpr std::string_view kInsCsvHeader = "time,x,y,z,vx,vy,vz,roll,pitch,yaw";
 
-// Numbers are written shortest-round-trip, so the file reads back exactly.
+// Numbers are written shortest-round-trip, so the file reads back exactly (status is not written).
 std::string format_ins_csv(std::span<const InsRecord> records);
 void write_ins_csv(const std::filesystem::path& path, std::span<const InsRecord> records);
 
-// Reads a file whose first non-blank line is exactly kInsCsvHeader (the configurable reader
-// comes with the GNSS/INS calibrator). Throws InputError naming file, line and field for a
-// different header, a wrong field count, a non-numeric or non-finite value, no rows, and times
-// that do not strictly increase. Status is 0.
-std::vector<InsRecord> read_ins_csv(const std::filesystem::path& path);
-std::vector<InsRecord> parse_ins_csv(std::string_view text, const std::string& source_name);
+// Reads the generic CSV. '#' comment lines and blank lines are skipped. Throws InputError naming
+// file, line and field for: missing required columns (saying which and what names are accepted),
+// both ENU and geodetic positions, an incomplete velocity, two columns for one quantity, a wrong
+// field count, a non-numeric or non-finite value, a latitude outside [-90, 90] deg, a non-integer
+// status, no rows, and times that do not strictly increase (how many, and the first line).
+InsCsvLog read_ins_csv_log(const std::filesystem::path& path, const InsCsvOptions& options = {});
+InsCsvLog parse_ins_csv_log(std::string_view text, const std::string& source_name,
+                            const InsCsvOptions& options = {});
+
+// The records of read_ins_csv_log / parse_ins_csv_log.
+std::vector<InsRecord> read_ins_csv(const std::filesystem::path& path,
+                                    const InsCsvOptions& options = {});
+std::vector<InsRecord> parse_ins_csv(std::string_view text, const std::string& source_name,
+                                     const InsCsvOptions& options = {});
 
 // Throws InputError unless `times` strictly increase. The message says how many rows repeat the
 // previous time and how many go back, and names the first offending line (`lines` holds each

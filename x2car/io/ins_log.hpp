@@ -1,9 +1,9 @@
 // Reading a GNSS/INS log in any of the forms x2car accepts, with the form detected from the path:
-//   - the reference layout `novatel_enu.csv` (io/novatel_csv.hpp): a file whose header's first
-//     field is `gps_time`;
-//   - the generic CSV with a header (io/ins_csv.hpp): any other file;
-//   - a KITTI raw OXTS folder (io/oxts.hpp): a directory holding `oxts/` or `data/` +
-//     `timestamps.txt`.
+//   - a KITTI raw OXTS folder (io/oxts.hpp): any directory (a drive folder holding `oxts/`, or
+//     the `oxts` folder itself with `data/` + `timestamps.txt`);
+//   - the reference layout `novatel_enu.csv` (io/novatel_csv.hpp): a file whose first line that
+//     is neither blank nor a '#' comment has `gps_time` as its first comma-separated field;
+//   - the generic CSV with a header (io/ins_csv.hpp): any other file.
 // Every reader returns records in x2car's conventions (DESIGN §1): ENU positions in a local tangent
 // frame, ENU velocities, world_from_ins as ZYX roll, pitch and yaw counter-clockwise from east.
 #pragma once
@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "x2car/io/geodetic.hpp"
 #include "x2car/io/ins_csv.hpp"
 
 namespace x2car::io {
@@ -33,13 +34,18 @@ struct InsLog {
   InsFormat format = InsFormat::kAuto;  // the form that was read (never kAuto)
   // UTC of the first record [s since the Unix epoch] when the log carries absolute times.
   std::optional<double> start_unix_time;
+  // The geodetic origin of position_enu when the log has geodetic positions (OXTS; a generic CSV
+  // with lat/lon/alt): the first record's position.
+  std::optional<GeodeticPosition> enu_origin;
   std::vector<InsRecord> records;  // times [s], strictly increasing
 };
 
-// The form of `path` as kAuto would read it. Throws InputError when the path does not exist.
+// The form of `path` as kAuto would read it (reads only the file's first line with content).
+// Throws InputError when the path does not exist or cannot be read.
 InsFormat detect_ins_format(const std::filesystem::path& path);
 
-// Throws InputError naming the file, line and field on any malformed input (see each reader).
+// Reads `path` in options.format, or in the detected one for kAuto. Throws InputError naming the
+// file, line and field on a missing path and on any malformed input (see each reader).
 InsLog read_ins_log(const std::filesystem::path& path, const InsReadOptions& options = {});
 
 }  // namespace x2car::io

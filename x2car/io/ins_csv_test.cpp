@@ -1,0 +1,253 @@
+// Tests of the header-driven generic GNSS/INS CSV reader (the writer's round trip is in
+// novatel_csv_test.cpp).
+#include "x2car/io/ins_csv.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "x2car/core/error.hpp"
+#include "x2car/core/rotation.hpp"
+#include "x2car/core/test_matchers.hpp"
+#include "x2car/io/geodetic.hpp"
+#include "x2car/io/text_lines.hpp"
+
+namespace x2car::io {
+namespace {
+
+using ::testing::HasSubstr;
+using x2car::testing::expect_input_error;
+
+std::vector<InsRecord> parse(const std::string& text, const InsCsvOptions& options = {}) {
+  return parse_ins_csv(text, "ins.csv", options);
+}
+
+InputError expect_csv_error(const std::string& text, std::size_t line,
+                            const std::string& field = {}) {
+  return expect_input_error([&] { parse_ins_csv(text, "ins.csv"); }, "ins.csv", line, field);
+}
+
+// ---- columns -----------------------------------------------------------------------------------
+
+TEST(InsCsvColumns, AnyOrderAnyCaseAndUnknownColumnsIgnored) {
+  const std::vector<InsRecord> r = parse(
+      " Yaw ,TIME,note,Z,x,Y,pitch,Roll,speed\n"
+      "0.3,1.5,first row,3,1,2,0.2,0.1,n/a\n"
+      "-0.3,1.6,second,6,4,5,0.02,0.01,n/a\n");
+  ASSERT_EQ(r.size(), 2u);
+  EXPECT_EQ(r[0].time, 1.5);
+  EXPECT_EQ(r[0].position_enu, Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(r[0].attitude.roll, 0.1);
+  EXPECT_EQ(r[0].attitude.pitch, 0.2);
+  EXPECT_EQ(r[0].attitude.yaw, 0.3);
+  EXPECT_EQ(r[1].position_enu, Eigen::Vector3d(4, 5, 6));
+  EXPECT_EQ(r[1].attitude.yaw, -0.3);
+  EXPECT_EQ(r[1].status, 0);
+}
+
+TEST(InsCsvColumns, EastNorthUpAndVelocityAliases) {
+  for (const char* velocity : {"vx,vy,vz", "ve,vn,vu", "v_east,v_north,v_up"}) {
+    const std::vector<InsRecord> r = parse(std::string("time_s,east,north,up,") + velocity +
+                                           ",roll,pitch,yaw\n" + "0,1,2,3,4,5,6,0,0,0\n");
+    ASSERT_EQ(r.size(), 1u) << velocity;
+    EXPECT_EQ(r[0].position_enu, Eigen::Vector3d(1, 2, 3)) << velocity;
+    EXPECT_EQ(r[0].velocity_enu, Eigen::Vector3d(4, 5, 6)) << velocity;  // east, north, up
+  }
+}
+
+TEST(InsCsvColumns, MissingVelocityGivesZeroVelocities) {
+  const std::vector<InsRecord> r =
+      parse("time,x,y,z,roll,pitch,yaw\n0,1,2,3,0,0,0\n1,2,2,3,0,0,0\n");
+  ASSERT_EQ(r.size(), 2u);
+  EXPECT_EQ(r[1].velocity_enu, Eigen::Vector3d::Zero());
+}
+
+TEST(InsCsvColumns, DegreeSuffixConvertsToRadians) {
+  const std::vector<InsRecord> r =
+      parse("time,x,y,z,roll_deg,pitch_deg,yaw_deg\n0,0,0,0,1,-2,90\n");
+  EXPECT_DOUBLE_EQ(r[0].attitude.roll, rad_from_deg(1.0));
+  EXPECT_DOUBLE_EQ(r[0].attitude.pitch, rad_from_deg(-2.0));
+  EXPECT_DOUBLE_EQ(r[0].attitude.yaw, kPi / 2);
+}
+
+TEST(InsCsvColumns, HeadingAndAzimuthAreClockwiseFromNorth) {
+  // Heading 0 faces north = ENU yaw +90 deg; azimuth 90 deg faces east = ENU yaw 0; a car turning
+  // right (azimuth growing) turns clockwise, i.e. its ENU yaw shrinks.
+  const std::vector<InsRecord> heading =
+      parse("time,x,y,z,roll,pitch,heading\n0,0,0,0,0,0,0\n1,0,0,0,0,0,0.1\n");
+  EXPECT_THAT(heading[0].attitude.yaw, x2car::testing::AngleNearDeg(kPi / 2, 1e-12));
+  EXPECT_THAT(heading[1].attitude.yaw, x2car::testing::AngleNearDeg(kPi / 2 - 0.1, 1e-12));
+  const std::vector<InsRecord> azimuth =
+      parse("time,x,y,z,roll,pitch,Azimuth_deg\n0,0,0,0,0,0,90\n1,0,0,0,0,0,180\n");
+  EXPECT_THAT(azimuth[0].attitude.yaw, x2car::testing::AngleNearDeg(0.0, 1e-12));
+  EXPECT_THAT(azimuth[1].attitude.yaw, x2car::testing::AngleNearDeg(-kPi / 2, 1e-12));
+}
+
+TEST(InsCsvColumns, YawConventionOptionOverridesTheName) {
+  const std::string yaw_text = "time,x,y,z,roll,pitch,yaw\n0,0,0,0,0,0,0\n";
+  InsCsvOptions options;
+  options.yaw_convention = YawConvention::kAzimuth;
+  EXPECT_THAT(parse(yaw_text, options)[0].attitude.yaw, x2car::testing::AngleNearDeg(kPi / 2, 0));
+  options.yaw_convention = YawConvention::kEnu;
+  EXPECT_EQ(parse("time,x,y,z,roll,pitch,heading\n0,0,0,0,0,0,0.25\n", options)[0].attitude.yaw,
+            0.25);
+}
+
+TEST(InsCsvColumns, AngleUnitOptionAppliesToNamesWithoutSuffix) {
+  InsCsvOptions options;
+  options.angle_unit = AngleUnit::kDegrees;
+  const std::vector<InsRecord> r =
+      parse("time,x,y,z,roll,pitch_rad,yaw\n0,0,0,0,1,0.5,-45\n", options);
+  EXPECT_DOUBLE_EQ(r[0].attitude.roll, rad_from_deg(1.0));
+  EXPECT_EQ(r[0].attitude.pitch, 0.5);  // the suffix wins
+  EXPECT_DOUBLE_EQ(r[0].attitude.yaw, rad_from_deg(-45.0));
+}
+
+TEST(InsCsvColumns, TimeNsGivesStartUnixTimeAndRelativeTimes) {
+  const InsCsvLog log = parse_ins_csv_log(
+      "time_ns,x,y,z,roll,pitch,yaw\n"
+      "1780308000123456789,0,0,0,0,0,0\n"
+      "1780308000133456789,1,0,0,0,0,0\n",
+      "ins.csv");
+  ASSERT_TRUE(log.start_unix_time.has_value());
+  EXPECT_DOUBLE_EQ(*log.start_unix_time, 1780308000.123456789);
+  EXPECT_EQ(log.records[0].time, 0.0);
+  EXPECT_EQ(log.records[1].time, 0.01);
+  EXPECT_FALSE(log.enu_origin.has_value());
+  EXPECT_FALSE(parse_ins_csv_log("time,x,y,z,roll,pitch,yaw\n5,0,0,0,0,0,0\n", "g")
+                   .start_unix_time.has_value());
+}
+
+TEST(InsCsvColumns, StatusIsAnInteger) {
+  const std::string header = "time,x,y,z,roll,pitch,yaw,status\n";
+  const std::vector<InsRecord> r = parse(header + "0,0,0,0,0,0,0,4\n1,0,0,0,0,0,0,5.0\n");
+  EXPECT_EQ(r[0].status, 4);
+  EXPECT_EQ(r[1].status, 5);
+  expect_csv_error(header + "0,0,0,0,0,0,0,4.5\n", 2, "status");
+}
+
+// ---- geodetic positions ------------------------------------------------------------------------
+
+TEST(InsCsvGeodetic, LatLonAltBecomeLocalEnuAtTheFirstRow) {
+  const InsCsvLog log = parse_ins_csv_log(
+      "time,latitude,longitude,altitude,vn,ve,vu,roll,pitch,yaw\n"
+      "0,49,8.4,110,0,0,0,0,0,0\n"
+      "1,49.001,8.4,112,1,2,3,0,0,0\n",
+      "ins.csv");
+  ASSERT_TRUE(log.enu_origin.has_value());
+  EXPECT_EQ(log.enu_origin->latitude_deg, 49.0);
+  EXPECT_EQ(log.enu_origin->altitude_m, 110.0);
+  EXPECT_LT(log.records[0].position_enu.norm(), 1e-9);
+  const Eigen::Vector3d expected =
+      LocalEnuFrame({49, 8.4, 110}).enu_from_geodetic({49.001, 8.4, 112});
+  EXPECT_LT((log.records[1].position_enu - expected).norm(), 1e-9);
+  EXPECT_NEAR(log.records[1].position_enu.y(), 111.21, 0.01);  // 0.001 deg of latitude at 49 deg
+  EXPECT_NEAR(log.records[1].position_enu.z(), 2.0, 0.01);
+  // vn, ve, vu are north, east, up; due north the local-level axes barely turn.
+  EXPECT_LT((log.records[1].velocity_enu - Eigen::Vector3d(2, 1, 3)).norm(), 1e-4);
+}
+
+TEST(InsCsvGeodetic, AttitudeIsTurnedIntoTheOriginsAxes) {
+  // 0.1 deg of longitude east at 49 deg: local east points north of the origin's east by the
+  // meridian convergence dlon sin(lat) (~0.075 deg), so a yaw of 0 reported there is +0.075 deg
+  // here.
+  const InsCsvLog log = parse_ins_csv_log(
+      "time,lat,lon,alt,roll,pitch,yaw\n0,49,8.4,0,0,0,0\n1,49,8.5,0,0,0,0\n", "ins.csv");
+  EXPECT_NEAR(log.records[0].attitude.yaw, 0.0, 1e-12);
+  EXPECT_NEAR(log.records[1].attitude.yaw, rad_from_deg(0.1) * std::sin(rad_from_deg(49.0)), 1e-6);
+}
+
+TEST(InsCsvGeodetic, RadianSuffixAndLatitudeRange) {
+  const std::string lat = format_number(rad_from_deg(49.0));
+  const std::vector<InsRecord> r = parse("time,lat_rad,lon_rad,alt,roll,pitch,yaw\n0," + lat + "," +
+                                         format_number(rad_from_deg(8.4)) + ",0,0,0,0\n1," + lat +
+                                         "," + format_number(rad_from_deg(8.401)) + ",0,0,0,0\n");
+  const Eigen::Vector3d expected = LocalEnuFrame({49, 8.4, 0}).enu_from_geodetic({49, 8.401, 0});
+  EXPECT_LT((r[1].position_enu - expected).norm(), 1e-6);
+  EXPECT_NEAR(r[1].position_enu.x(), 73.0, 0.5);  // 0.001 deg of longitude at 49 deg
+  expect_csv_error("time,lat,lon,alt,roll,pitch,yaw\n0,91,0,0,0,0,0\n", 2, "lat");
+}
+
+// ---- bad input ---------------------------------------------------------------------------------
+
+TEST(InsCsvErrors, MissingColumnsAreListedWithTheNamesAccepted) {
+  InputError error = expect_csv_error("time,x,y,roll,pitch\n0,0,0,0,0\n", 1);
+  EXPECT_THAT(error.what(),
+              HasSubstr("missing column(s): 'z' or 'up'; 'yaw' or 'heading' or 'azimuth'"));
+  error = expect_csv_error("t,x,y,z,roll,pitch,yaw\n0,0,0,0,0,0,0\n", 1);
+  EXPECT_THAT(error.what(), HasSubstr("'time' or 'time_s' or 'time_ns'"));
+  error = expect_csv_error("time,roll,pitch,yaw\n0,0,0,0\n", 1);
+  EXPECT_THAT(error.what(), HasSubstr("a position: 'x,y,z' or 'east,north,up'"));
+  EXPECT_THAT(error.what(), HasSubstr("'lat,lon,alt'"));
+  error = expect_csv_error("time,lat,lon,roll,pitch,yaw\n0,0,0,0,0,0\n", 1);
+  EXPECT_THAT(error.what(), HasSubstr("'alt' or 'altitude'"));
+}
+
+TEST(InsCsvErrors, IncompleteVelocityIsRejected) {
+  const InputError error =
+      expect_csv_error("time,x,y,z,vx,vy,roll,pitch,yaw\n0,0,0,0,0,0,0,0,0\n", 1);
+  EXPECT_THAT(error.what(),
+              HasSubstr("'vz' or 'vu' or 'v_up' (velocity is optional, but needs all three)"));
+}
+
+TEST(InsCsvErrors, TwoColumnsForOneQuantityAreRejected) {
+  InputError error =
+      expect_csv_error("time,time_s,x,y,z,roll,pitch,yaw\n0,0,0,0,0,0,0,0\n", 1, "time_s");
+  EXPECT_THAT(error.what(), HasSubstr("'time' (1) and 'time_s' (2)"));
+  expect_csv_error("time,x,y,z,roll,pitch,yaw,Heading_deg\n0,0,0,0,0,0,0,0\n", 1, "Heading_deg");
+  expect_csv_error("time,x,east,y,z,roll,pitch,yaw\n0,0,0,0,0,0,0,0\n", 1, "east");
+}
+
+TEST(InsCsvErrors, EnuAndGeodeticTogetherAreRejected) {
+  const InputError error =
+      expect_csv_error("time,x,y,z,lat,lon,alt,roll,pitch,yaw\n0,0,0,0,0,0,0,0,0,0\n", 1, "lat");
+  EXPECT_THAT(error.what(), HasSubstr("both an ENU position ('x') and a geodetic one ('lat')"));
+}
+
+TEST(InsCsvErrors, RowsAreCheckedFieldByField) {
+  const std::string header = "# exported\ntime,x,y,z,roll,Pitch,yaw\n";
+  const InputError count = expect_csv_error(header + "0,0,0,0,0,0,0\n1,0,0,0,0,0\n", 4);
+  EXPECT_THAT(count.what(),
+              HasSubstr("expected 7 comma-separated fields as in the header (line 2), "
+                        "found 6"));
+  expect_csv_error(header + "0,0,0,0,0,level,0\n", 3, "Pitch");
+  expect_csv_error(header + "0,0,0,0,0,,0\n", 3, "Pitch");
+  expect_csv_error(header + "0,0,0,0,nan,0,0\n", 3, "roll");
+  expect_csv_error(header + "0,0,inf,0,0,0,0\n", 3, "y");
+  expect_csv_error("time_ns,x,y,z,roll,pitch,yaw\n1.5,0,0,0,0,0,0\n", 2, "time_ns");
+}
+
+TEST(InsCsvErrors, NoRowsOrEmptyFile) {
+  expect_csv_error("time,x,y,z,roll,pitch,yaw\n", 0);
+  expect_csv_error("\n# nothing\n", 0);
+}
+
+TEST(InsCsvErrors, RepeatedAndBackwardTimesAreCountedAndLocated) {
+  const InputError error = expect_csv_error(
+      "time,x,y,z,roll,pitch,yaw\n0,0,0,0,0,0,0\n1,0,0,0,0,0,0\n1,0,0,0,0,0,0\n0.5,0,0,0,0,0,0\n"
+      "2,0,0,0,0,0,0\n2,0,0,0,0,0,0\n",
+      4, "time");
+  EXPECT_THAT(error.what(), HasSubstr("2 row(s) repeat the previous time and 1 go back"));
+  EXPECT_THAT(error.what(), HasSubstr("the first is line 4"));
+}
+
+TEST(InsCsvOptions, NamesRoundTripAndUnknownNamesAreRejected) {
+  for (const YawConvention c : {YawConvention::kEnu, YawConvention::kAzimuth}) {
+    EXPECT_EQ(yaw_convention_from_string(to_string(c)), c);
+  }
+  for (const AngleUnit u : {AngleUnit::kRadians, AngleUnit::kDegrees}) {
+    EXPECT_EQ(angle_unit_from_string(to_string(u)), u);
+  }
+  EXPECT_THROW(yaw_convention_from_string("ned"), std::invalid_argument);
+  EXPECT_THROW(angle_unit_from_string("grad"), std::invalid_argument);
+  InsCsvOptions options;
+  options.angle_unit = static_cast<AngleUnit>(7);
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace x2car::io

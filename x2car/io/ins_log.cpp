@@ -1,0 +1,117 @@
+#include "x2car/io/ins_log.hpp"
+
+#include <fmt/format.h>
+
+#include <array>
+#include <fstream>
+#include <stdexcept>
+#include <system_error>
+
+#include "x2car/core/error.hpp"
+#include "x2car/io/novatel_csv.hpp"
+#include "x2car/io/oxts.hpp"
+#include "x2car/io/text_lines.hpp"
+
+namespace x2car::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct FormatName {
+  InsFormat format;
+  const char* name;
+};
+constexpr std::array<FormatName, 4> kFormatNames{{{InsFormat::kAuto, "auto"},
+                                                  {InsFormat::kNovatel, "novatel"},
+                                                  {InsFormat::kCsv, "csv"},
+                                                  {InsFormat::kOxts, "oxts"}}};
+
+// novatel when the first line that is neither blank nor a '#' comment starts with the field
+// `gps_time` (as the novatel reader's own header check), else the generic CSV.
+InsFormat detect_text_format(std::string_view text) {
+  const std::vector<TextLine> lines = split_lines(text);
+  if (lines.empty()) return InsFormat::kCsv;
+  const std::string_view line = lines.front().text;
+  return trim(line.substr(0, line.find(','))) == novatel_field_names().front() ? InsFormat::kNovatel
+                                                                               : InsFormat::kCsv;
+}
+
+void check_exists(const fs::path& path) {
+  std::error_code error;
+  if (!fs::exists(path, error)) throw InputError(path.string(), "no such file or folder");
+}
+
+InsLog from_text(std::string_view text, InsFormat format, const fs::path& path,
+                 const InsReadOptions& options) {
+  InsLog log;
+  log.format = format;
+  if (format == InsFormat::kNovatel) {
+    NovatelLog novatel = parse_novatel_enu(text, path.string());
+    log.start_unix_time = novatel.start_unix_time;
+    log.records = std::move(novatel.records);
+    return log;
+  }
+  InsCsvLog csv = parse_ins_csv_log(text, path.string(), options.csv);
+  log.start_unix_time = csv.start_unix_time;
+  log.enu_origin = csv.enu_origin;
+  log.records = std::move(csv.records);
+  return log;
+}
+
+}  // namespace
+
+const char* to_string(InsFormat format) {
+  for (const FormatName& entry : kFormatNames) {
+    if (entry.format == format) return entry.name;
+  }
+  throw std::invalid_argument("to_string: not an InsFormat");
+}
+
+InsFormat ins_format_from_string(const std::string& text) {
+  for (const FormatName& entry : kFormatNames) {
+    if (text == entry.name) return entry.format;
+  }
+  throw std::invalid_argument(fmt::format("unknown INS log format '{}'; expected one of: {}", text,
+                                          join(ins_format_names(), ", ")));
+}
+
+std::vector<std::string> ins_format_names() {
+  std::vector<std::string> names;
+  for (const FormatName& entry : kFormatNames) names.emplace_back(entry.name);
+  return names;
+}
+
+InsFormat detect_ins_format(const fs::path& path) {
+  check_exists(path);
+  std::error_code error;
+  if (fs::is_directory(path, error)) return InsFormat::kOxts;
+  // Reads only up to the first line with content (a header is short; the log may be large).
+  std::ifstream stream(path, std::ios::binary);
+  if (!stream) throw InputError(path.string(), "cannot open file for reading");
+  std::string head;
+  for (std::string line; std::getline(stream, line);) {
+    head += line + "\n";
+    if (!split_lines(head).empty()) break;
+  }
+  return detect_text_format(head);
+}
+
+InsLog read_ins_log(const fs::path& path, const InsReadOptions& options) {
+  check_exists(path);
+  if (options.format == InsFormat::kOxts ||
+      (options.format == InsFormat::kAuto && detect_ins_format(path) == InsFormat::kOxts)) {
+    OxtsLog oxts = read_oxts_folder(path);
+    InsLog log;
+    log.format = InsFormat::kOxts;
+    log.start_unix_time = oxts.start_unix_time;
+    log.enu_origin = oxts.enu_origin;
+    log.records = std::move(oxts.records);
+    return log;
+  }
+  const std::string text = read_text_file(path);
+  const InsFormat format =
+      options.format == InsFormat::kAuto ? detect_text_format(text) : options.format;
+  return from_text(text, format, path, options);
+}
+
+}  // namespace x2car::io
