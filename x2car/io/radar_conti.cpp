@@ -1,0 +1,125 @@
+#include "x2car/io/radar_conti.hpp"
+
+#include <fmt/format.h>
+
+#include <array>
+
+#include "x2car/core/error.hpp"
+#include "x2car/io/text_lines.hpp"
+
+namespace x2car::io {
+namespace {
+
+// The columns the reader needs, in this order, at the start of the header.
+constexpr std::array<std::string_view, 6> kRequired{"time_ns", "track_id", "vx", "vy", "px", "py"};
+
+struct ContiColumns {
+  std::size_t count = 0;           // fields per row
+  std::optional<std::size_t> rcs;  // index of the optional columns
+  std::optional<std::size_t> meas_state;
+};
+
+ContiColumns parse_header(const TextLine& line, const std::string& source) {
+  const std::vector<std::string_view> names = split_fields(line.text);
+  for (std::size_t i = 0; i < kRequired.size(); ++i) {
+    if (i >= names.size() || names[i] != kRequired[i]) {
+      throw InputError(source, line.number, field_index(i),
+                       fmt::format("expected a header starting with "
+                                   "'time_ns,track_id,vx,vy,px,py' (column {} is '{}')",
+                                   i + 1, kRequired[i]));
+    }
+  }
+  ContiColumns columns;
+  columns.count = names.size();
+  for (std::size_t i = kRequired.size(); i < names.size(); ++i) {
+    if (names[i] == "rcs") columns.rcs = i;
+    if (names[i] == "meas_state") columns.meas_state = i;
+  }
+  return columns;
+}
+
+StampedRadarDetection parse_row(const TextLine& line, const ContiColumns& columns,
+                                const std::vector<std::string_view>& names,
+                                const std::string& source) {
+  const std::vector<std::string_view> f = split_fields(line.text);
+  if (f.size() != columns.count) {
+    throw InputError(source, line.number, {},
+                     fmt::format("expected {} comma-separated fields (as many as the header "
+                                 "names), found {}",
+                                 columns.count, f.size()));
+  }
+  const auto where = [&](std::size_t i) {
+    return FieldLocation{source, line.number, std::string(names[i])};
+  };
+  StampedRadarDetection row;
+  row.unix_time_ns = parse_integer(f[0], where(0));
+  RadarDetection& d = row.detection;
+  d.track_id = parse_radar_track_id(f[1], where(1), kContiMaxTrackId);
+  d.has_velocity = true;
+  d.vx = parse_double(f[2], where(2));
+  d.vy = parse_double(f[3], where(3));
+  d.x = parse_double(f[4], where(4));
+  d.y = parse_double(f[5], where(5));
+  set_polar_from_cartesian(d);
+  if (columns.rcs && !f[*columns.rcs].empty())
+    d.rcs_dbsm = parse_double(f[*columns.rcs], where(*columns.rcs));
+  if (columns.meas_state) {
+    d.new_track =
+        parse_integer(f[*columns.meas_state], where(*columns.meas_state)) == kContiMeasStateNew;
+  }
+  return row;
+}
+
+}  // namespace
+
+std::string format_conti_scan(std::span<const RadarDetection> scan, std::int64_t unix_time_ns) {
+  std::string text = std::string(kContiHeader) + "\n";
+  for (const RadarDetection& d : radar_scan_rows(scan, kContiMaxTrackId, "conti")) {
+    text += fmt::format("{},{},{},{},{}\n", unix_time_ns, d.track_id,
+                        format_numbers({d.vx, d.vy, d.x, d.y}, ","),
+                        d.rcs_dbsm ? format_number(*d.rcs_dbsm) : std::string(),
+                        d.new_track ? kContiMeasStateNew : kContiMeasStateMeasured);
+  }
+  return text;
+}
+
+void write_conti_radar(const std::filesystem::path& folder,
+                       std::span<const RadarDetection> detections, double start_unix_time) {
+  write_radar_scan_files(folder, detections, start_unix_time,
+                         [](std::span<const RadarDetection> scan, std::int64_t ns, std::size_t) {
+                           return format_conti_scan(scan, ns);
+                         });
+}
+
+std::vector<StampedRadarDetection> parse_conti_scan(std::string_view text,
+                                                    const std::string& source_name) {
+  const std::vector<TextLine> lines = split_lines(text);
+  if (lines.empty()) throw InputError(source_name, "empty file, expected a header line");
+  const ContiColumns columns = parse_header(lines.front(), source_name);
+  const std::vector<std::string_view> names = split_fields(lines.front().text);
+  std::vector<StampedRadarDetection> rows;
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    rows.push_back(parse_row(lines[i], columns, names, source_name));
+    if (i == 1) continue;
+    const StampedRadarDetection& previous = rows[rows.size() - 2];
+    if (previous.unix_time_ns == rows.back().unix_time_ns &&
+        previous.detection.track_id >= rows.back().detection.track_id) {
+      throw InputError(source_name, lines[i].number, "track_id",
+                       fmt::format("track ids of a scan must ascend: {} follows {}",
+                                   rows.back().detection.track_id, previous.detection.track_id));
+    }
+  }
+  return rows;
+}
+
+RadarLog read_conti_radar(const std::filesystem::path& folder) {
+  std::vector<StampedRadarDetection> rows;
+  for (const RadarScanFile& file : list_radar_scan_files(folder)) {
+    std::vector<StampedRadarDetection> scan =
+        parse_conti_scan(read_text_file(file.path), file.path.string());
+    rows.insert(rows.end(), scan.begin(), scan.end());
+  }
+  return make_radar_log(std::move(rows));
+}
+
+}  // namespace x2car::io

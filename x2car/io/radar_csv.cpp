@@ -1,0 +1,355 @@
+#include "x2car/io/radar_csv.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <set>
+#include <stdexcept>
+
+#include "x2car/core/error.hpp"
+#include "x2car/io/novatel_csv.hpp"
+#include "x2car/io/radar_conti.hpp"
+#include "x2car/io/radar_delphi.hpp"
+#include "x2car/io/text_lines.hpp"
+
+namespace x2car::io {
+namespace {
+
+constexpr std::int64_t kNsPerMs = 1000000;
+constexpr std::string_view kScanFileExtension = ".csv";
+
+// Positions of the separators in "YYYY-MM-DD-HH-MM-SS-fff" and what they stand for in the
+// "YYYY-MM-DD HH:MM:SS.fff" form that parse_utc_time reads.
+constexpr std::size_t kScanNameLength = 23;
+constexpr std::array<std::pair<std::size_t, char>, 6> kNameSeparators{
+    {{4, '-'}, {7, '-'}, {10, ' '}, {13, ':'}, {16, ':'}, {19, '.'}}};
+
+std::int64_t floor_div(std::int64_t a, std::int64_t b) {
+  return a / b - ((a % b != 0) && ((a < 0) != (b < 0)) ? 1 : 0);
+}
+
+// ---- generic CSV ----
+
+struct GenericColumns {
+  std::size_t count = 0;  // fields per row
+  std::map<std::string, std::size_t, std::less<>> index;
+  bool has(std::string_view name) const { return index.find(name) != index.end(); }
+  std::size_t at(std::string_view name) const { return index.find(name)->second; }
+};
+
+GenericColumns parse_generic_header(const TextLine& line, const std::string& source) {
+  GenericColumns columns;
+  const std::vector<std::string_view> names = split_fields(line.text);
+  columns.count = names.size();
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (!columns.index.emplace(std::string(names[i]), i).second) {
+      throw InputError(source, line.number, std::string(names[i]), "duplicated column");
+    }
+  }
+  for (const char* required : {"time", "range", "azimuth", "range_rate"}) {
+    if (!columns.has(required)) {
+      throw InputError(source, line.number, required,
+                       fmt::format("missing required column; the header must name time, range, "
+                                   "azimuth and range_rate (the full header is '{}')",
+                                   kRadarCsvHeader));
+    }
+  }
+  for (const auto& [first, second] : {std::pair{"x", "y"}, std::pair{"vx", "vy"}}) {
+    if (columns.has(first) != columns.has(second)) {
+      throw InputError(source, line.number, columns.has(first) ? second : first,
+                       fmt::format("columns {} and {} come together", first, second));
+    }
+  }
+  return columns;
+}
+
+int parse_generic_track_id(std::string_view text, const FieldLocation& where) {
+  if (text.empty()) return kNoTrackId;
+  const std::int64_t id = parse_integer(text, where);
+  if (id < 0 || id > 1000000000) {
+    throw InputError(where.file, where.line, where.field,
+                     fmt::format("track id must be a non-negative integer, found {}", id));
+  }
+  return static_cast<int>(id);
+}
+
+RadarDetection parse_generic_row(const TextLine& line, const GenericColumns& columns,
+                                 const std::string& source) {
+  const std::vector<std::string_view> f = split_fields(line.text);
+  if (f.size() != columns.count) {
+    throw InputError(source, line.number, {},
+                     fmt::format("expected {} comma-separated fields (as many as the header "
+                                 "names), found {}",
+                                 columns.count, f.size()));
+  }
+  const auto where = [&](std::string_view name) {
+    return FieldLocation{source, line.number, std::string(name)};
+  };
+  const auto number = [&](std::string_view name) {
+    return parse_double(f[columns.at(name)], where(name));
+  };
+  RadarDetection d;
+  d.time = number("time");
+  d.range = number("range");
+  d.azimuth = number("azimuth");
+  d.range_rate = number("range_rate");
+  if (columns.has("track_id")) {
+    d.track_id = parse_generic_track_id(f[columns.at("track_id")], where("track_id"));
+  }
+  d.x = columns.has("x") ? number("x") : d.range * std::cos(d.azimuth);
+  d.y = columns.has("y") ? number("y") : d.range * std::sin(d.azimuth);
+  if (columns.has("vx")) {
+    const bool vx_empty = f[columns.at("vx")].empty();
+    if (vx_empty != f[columns.at("vy")].empty()) {
+      throw InputError(source, line.number, vx_empty ? "vx" : "vy",
+                       "vx and vy must both hold a number or both be empty");
+    }
+    if (!vx_empty) {
+      d.has_velocity = true;
+      d.vx = number("vx");
+      d.vy = number("vy");
+    }
+  }
+  if (columns.has("rcs") && !f[columns.at("rcs")].empty()) d.rcs_dbsm = number("rcs");
+  return d;
+}
+
+std::string optional_number(bool present, double value) {
+  return present ? format_number(value) : std::string();
+}
+
+std::string format_generic_row(const RadarDetection& d) {
+  return fmt::format("{},{},{},{},{},{}\n", format_number(d.time),
+                     d.track_id == kNoTrackId ? std::string() : std::to_string(d.track_id),
+                     format_numbers({d.range, d.azimuth, d.range_rate, d.x, d.y}, ","),
+                     optional_number(d.has_velocity, d.vx), optional_number(d.has_velocity, d.vy),
+                     optional_number(d.rcs_dbsm.has_value(), d.rcs_dbsm.value_or(0.0)));
+}
+
+}  // namespace
+
+std::string to_string(RadarLayout layout) {
+  switch (layout) {
+    case RadarLayout::kConti:
+      return "conti";
+    case RadarLayout::kDelphi:
+      return "delphi";
+    case RadarLayout::kGeneric:
+      return "generic";
+  }
+  throw std::invalid_argument("unknown radar layout");
+}
+
+RadarLayout radar_layout_from_string(std::string_view name) {
+  for (const RadarLayout layout :
+       {RadarLayout::kConti, RadarLayout::kDelphi, RadarLayout::kGeneric}) {
+    if (name == to_string(layout)) return layout;
+  }
+  throw std::invalid_argument(
+      fmt::format("unknown radar layout '{}'; the layouts are: conti, delphi, generic", name));
+}
+
+std::string radar_scan_file_name(std::int64_t unix_time_ns) {
+  const std::int64_t ms_ns = floor_div(unix_time_ns, kNsPerMs) * kNsPerMs;
+  std::string name = format_utc_time(ms_ns).substr(0, kScanNameLength);
+  for (const auto& separator : kNameSeparators) name[separator.first] = '-';
+  return name + std::string(kScanFileExtension);
+}
+
+std::optional<std::int64_t> parse_radar_scan_file_name(std::string_view file_name) {
+  if (!file_name.ends_with(kScanFileExtension)) return std::nullopt;
+  file_name.remove_suffix(kScanFileExtension.size());
+  if (file_name.size() != kScanNameLength) return std::nullopt;
+  std::string text(file_name);
+  for (const auto& [position, separator] : kNameSeparators) {
+    if (text[position] != '-') return std::nullopt;
+    text[position] = separator;
+  }
+  return parse_utc_time(text);
+}
+
+std::int64_t radar_unix_time_ns(double start_unix_time, double time) {
+  if (!std::isfinite(start_unix_time) || !std::isfinite(time)) {
+    throw std::invalid_argument("radar time or start time is not finite");
+  }
+  return std::llround(start_unix_time * 1e9) + std::llround(time * 1e9);
+}
+
+std::vector<std::span<const RadarDetection>> split_radar_scans(
+    std::span<const RadarDetection> detections) {
+  std::vector<std::span<const RadarDetection>> scans;
+  std::size_t begin = 0;
+  for (std::size_t i = 1; i <= detections.size(); ++i) {
+    if (i == detections.size() || detections[i].time != detections[begin].time) {
+      scans.push_back(detections.subspan(begin, i - begin));
+      begin = i;
+    }
+  }
+  return scans;
+}
+
+std::vector<RadarScanFile> list_radar_scan_files(const std::filesystem::path& folder) {
+  std::error_code error;
+  if (!std::filesystem::is_directory(folder, error)) {
+    throw InputError(folder.string(), "is not a folder; expected a folder of radar scan files");
+  }
+  std::vector<RadarScanFile> files;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    if (!entry.is_regular_file() || entry.path().extension().string() != kScanFileExtension)
+      continue;
+    const std::string name = entry.path().filename().string();
+    const std::optional<std::int64_t> ns = parse_radar_scan_file_name(name);
+    if (!ns) {
+      throw InputError(entry.path().string(),
+                       "file name is not a scan time 'YYYY-MM-DD-HH-MM-SS-fff.csv' (UTC)");
+    }
+    files.push_back({entry.path(), *ns});
+  }
+  if (files.empty()) throw InputError(folder.string(), "no radar scan files (*.csv) in the folder");
+  std::sort(files.begin(), files.end(), [](const RadarScanFile& a, const RadarScanFile& b) {
+    return a.name_time_ns != b.name_time_ns ? a.name_time_ns < b.name_time_ns : a.path < b.path;
+  });
+  return files;
+}
+
+RadarLog make_radar_log(std::vector<StampedRadarDetection> rows) {
+  std::stable_sort(rows.begin(), rows.end(),
+                   [](const StampedRadarDetection& a, const StampedRadarDetection& b) {
+                     return a.unix_time_ns < b.unix_time_ns;
+                   });
+  RadarLog log;
+  if (rows.empty()) return log;
+  const std::int64_t first_ns = rows.front().unix_time_ns;
+  log.start_unix_time = static_cast<double>(first_ns) / 1e9;
+  log.detections.reserve(rows.size());
+  for (StampedRadarDetection& row : rows) {
+    row.detection.time = static_cast<double>(row.unix_time_ns - first_ns) / 1e9;
+    log.detections.push_back(std::move(row.detection));
+  }
+  return log;
+}
+
+std::vector<RadarDetection> radar_scan_rows(std::span<const RadarDetection> scan, int max_track_id,
+                                            std::string_view layout) {
+  std::vector<RadarDetection> rows(scan.begin(), scan.end());
+  std::stable_sort(rows.begin(), rows.end(), [](const RadarDetection& a, const RadarDetection& b) {
+    return a.track_id < b.track_id;
+  });
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const RadarDetection& row = rows[i];
+    if (row.track_id < 0 || row.track_id > max_track_id) {
+      throw std::invalid_argument(
+          fmt::format("{} radar: track id {} is outside 0-{}", layout, row.track_id, max_track_id));
+    }
+    if (i > 0 && rows[i - 1].track_id == row.track_id) {
+      throw std::invalid_argument(
+          fmt::format("{} radar: track id {} twice in one scan", layout, row.track_id));
+    }
+    if (!row.has_velocity) {
+      throw std::invalid_argument(
+          fmt::format("{} radar: track {} has no velocity", layout, row.track_id));
+    }
+  }
+  return rows;
+}
+
+int parse_radar_track_id(std::string_view text, const FieldLocation& where, int max_track_id) {
+  const std::int64_t id = parse_integer(text, where);
+  if (id < 0 || id > max_track_id) {
+    throw InputError(where.file, where.line, where.field,
+                     fmt::format("track id {} is outside 0-{}", id, max_track_id));
+  }
+  return static_cast<int>(id);
+}
+
+void write_radar_scan_files(const std::filesystem::path& folder,
+                            std::span<const RadarDetection> detections, double start_unix_time,
+                            const RadarScanFormatter& format_scan) {
+  std::error_code error;
+  std::filesystem::create_directories(folder, error);
+  if (error) throw InputError(folder.string(), "cannot create the folder: " + error.message());
+  std::set<std::string> names;
+  const std::vector<std::span<const RadarDetection>> scans = split_radar_scans(detections);
+  for (std::size_t i = 0; i < scans.size(); ++i) {
+    const std::int64_t first_ns = radar_unix_time_ns(start_unix_time, scans[i].front().time);
+    const std::string name = radar_scan_file_name(first_ns);
+    if (!names.insert(name).second) {
+      throw std::invalid_argument("two radar scans less than 1 ms apart share the file name " +
+                                  name);
+    }
+    write_text_file(folder / name, format_scan(scans[i], first_ns, i));
+  }
+}
+
+std::string format_radar_csv(std::span<const RadarDetection> detections) {
+  std::string text = std::string(kRadarCsvHeader) + "\n";
+  for (const RadarDetection& detection : detections) text += format_generic_row(detection);
+  return text;
+}
+
+void write_radar_csv(const std::filesystem::path& path,
+                     std::span<const RadarDetection> detections) {
+  write_text_file(path, format_radar_csv(detections));
+}
+
+RadarLog read_radar_csv(const std::filesystem::path& path) {
+  return parse_radar_csv(read_text_file(path), path.string());
+}
+
+RadarLog parse_radar_csv(std::string_view text, const std::string& source_name) {
+  const std::vector<TextLine> lines = split_lines(text);
+  if (lines.empty()) throw InputError(source_name, "empty file, expected a header line");
+  const GenericColumns columns = parse_generic_header(lines.front(), source_name);
+  if (lines.size() == 1) throw InputError(source_name, "no data rows after the header");
+  RadarLog log;
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    log.detections.push_back(parse_generic_row(lines[i], columns, source_name));
+  }
+  std::stable_sort(
+      log.detections.begin(), log.detections.end(),
+      [](const RadarDetection& a, const RadarDetection& b) { return a.time < b.time; });
+  return log;
+}
+
+void write_radar(const std::filesystem::path& folder, RadarLayout layout,
+                 std::span<const RadarDetection> detections, double start_unix_time) {
+  switch (layout) {
+    case RadarLayout::kConti:
+      return write_conti_radar(folder, detections, start_unix_time);
+    case RadarLayout::kDelphi:
+      return write_delphi_radar(folder, detections, start_unix_time);
+    case RadarLayout::kGeneric: {
+      std::error_code error;
+      std::filesystem::create_directories(folder, error);
+      if (error) throw InputError(folder.string(), "cannot create the folder: " + error.message());
+      return write_radar_csv(folder / kRadarCsvFileName, detections);
+    }
+  }
+  throw std::invalid_argument("unknown radar layout");
+}
+
+RadarLog read_radar(const std::filesystem::path& input, RadarLayout layout) {
+  switch (layout) {
+    case RadarLayout::kConti:
+      return read_conti_radar(input);
+    case RadarLayout::kDelphi:
+      return read_delphi_radar(input);
+    case RadarLayout::kGeneric: {
+      std::error_code error;
+      const bool folder = std::filesystem::is_directory(input, error);
+      return read_radar_csv(folder ? input / kRadarCsvFileName : input);
+    }
+  }
+  throw std::invalid_argument("unknown radar layout");
+}
+
+void set_polar_from_cartesian(RadarDetection& d) {
+  d.range = std::hypot(d.x, d.y);
+  d.azimuth = std::atan2(d.y, d.x);
+  d.range_rate = d.range > 0.0 ? (d.x * d.vx + d.y * d.vy) / d.range : 0.0;
+}
+
+}  // namespace x2car::io

@@ -1,0 +1,162 @@
+// A 2-D automotive radar's detections (tracked objects), and the layouts x2car reads and writes
+// them in (docs/formats.md, "Radar"):
+//
+//   conti    a folder of scan files, one per scan (radar_conti.hpp)
+//   delphi   a folder of scan files, one per scan (radar_delphi.hpp)
+//   generic  one CSV with a header (below)
+//
+// The radar frame R is x forward, y left, z up (DESIGN §1). A 2-D radar measures in its x-y plane:
+//   range      = hypot(x, y)                      [m]
+//   azimuth    = atan2(y, x)                      [rad], counter-clockwise positive, 0 = boresight
+//   range_rate = d range / dt = (x vx + y vy) / range   [m/s], NEGATIVE when the target approaches
+// where (vx, vy) is the target's velocity relative to the radar, (v_target - v_radar) expressed in
+// R. For a static target seen from a radar mounted at yaw psi on a car driving straight at speed
+// v: range_rate = -v cos(azimuth + psi).
+//
+// Scan files are named `YYYY-MM-DD-HH-MM-SS-fff.csv` after the UTC time of their first row
+// (milliseconds, rounded down); all times are handled as integer nanoseconds since the Unix epoch
+// with calendar arithmetic that never looks at the machine's time zone.
+//
+// Generic CSV, one header line naming the columns, one detection per row:
+//   time,track_id,range,azimuth,range_rate,x,y,vx,vy,rcs
+// time [s] on the GNSS/INS log's clock; range, azimuth, range_rate required; track_id (integer
+// >= 0, empty = none), x,y (both or neither; derived from range and azimuth when absent), vx,vy
+// (both or neither; empty fields = unknown) and rcs [dBsm] optional. Columns may come in any
+// order; columns with other names are ignored.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "x2car/io/text_lines.hpp"
+
+namespace x2car::io {
+
+constexpr int kNoTrackId = -1;
+
+struct RadarDetection {
+  double time = 0.0;          // [s] from the log's time 0 (RadarLog::start_unix_time)
+  int track_id = kNoTrackId;  // the radar's object id; kNoTrackId when the layout has none
+  bool new_track = false;     // the first scan of this track (Conti meas_state 1, Delphi status 1)
+  double range = 0.0;         // hypot(x, y) [m]
+  double azimuth = 0.0;       // atan2(y, x), counter-clockwise positive [rad]
+  double range_rate = 0.0;    // d range / dt, negative approaching [m/s]
+  double x = 0.0;             // position in the radar frame, forward [m]
+  double y = 0.0;             // left [m]
+  bool has_velocity = false;  // whether vx, vy hold a value
+  double vx = 0.0;            // velocity relative to the radar, in the radar frame [m/s]
+  double vy = 0.0;            // [m/s]
+  std::optional<double> rcs_dbsm;  // radar cross-section [dBsm], when the layout has it
+};
+
+struct RadarLog {
+  // UTC of the log's time 0 [s since the Unix epoch]: the earliest row of a Conti or Delphi folder.
+  // 0 for the generic CSV, whose times are already on the GNSS/INS log's clock.
+  double start_unix_time = 0.0;
+  std::vector<RadarDetection> detections;  // in time order (rows of equal time keep file order)
+};
+
+enum class RadarLayout { kConti, kDelphi, kGeneric };
+
+std::string to_string(RadarLayout layout);  // "conti", "delphi", "generic"
+// Inverse of to_string; throws std::invalid_argument listing the valid names.
+RadarLayout radar_layout_from_string(std::string_view name);
+
+// ---- scan folders (Conti and Delphi) ------------------------------------------------------------
+
+// "YYYY-MM-DD-HH-MM-SS-fff.csv" of a UTC instant [ns since the Unix epoch], milliseconds rounded
+// down.
+std::string radar_scan_file_name(std::int64_t unix_time_ns);
+// The instant [ns] a scan file's name stands for; nullopt when it is not such a name.
+std::optional<std::int64_t> parse_radar_scan_file_name(std::string_view file_name);
+
+// The UTC instant [ns] of `time` [s] on a log that starts at `start_unix_time` [s]; both rounded
+// to the nanosecond separately, as the GNSS/INS writer does, so the two logs share one clock.
+std::int64_t radar_unix_time_ns(double start_unix_time, double time);
+
+// Runs of equal time in `detections` (one radar scan each), in order.
+std::vector<std::span<const RadarDetection>> split_radar_scans(
+    std::span<const RadarDetection> detections);
+
+struct RadarScanFile {
+  std::filesystem::path path;
+  std::int64_t name_time_ns = 0;  // what the name says [ns]
+};
+
+// The *.csv files of a scan folder, sorted by the time in their names (other files are ignored).
+// Throws InputError for a missing folder, a folder without .csv files, and a .csv file whose name
+// is not a scan time (naming it).
+std::vector<RadarScanFile> list_radar_scan_files(const std::filesystem::path& folder);
+
+// One row of a scan file with its absolute time, before the log's time 0 is known.
+struct StampedRadarDetection {
+  std::int64_t unix_time_ns = 0;  // [ns since the Unix epoch, UTC]
+  RadarDetection detection;       // time still unset
+};
+
+// The log of rows from any number of scan files: time 0 is the earliest row, every detection's
+// time is relative to it, and rows are sorted by time (rows of equal time keep their order).
+// An empty input gives an empty log.
+RadarLog make_radar_log(std::vector<StampedRadarDetection> rows);
+
+// The scan's detections sorted by track id, for the scan-file writers. Throws
+// std::invalid_argument naming `layout` for an id outside 0..max_track_id, a repeated id, or a
+// detection without velocity.
+std::vector<RadarDetection> radar_scan_rows(std::span<const RadarDetection> scan, int max_track_id,
+                                            std::string_view layout);
+
+// A track id field: an integer in [0, max_track_id]; InputError at `where` otherwise.
+int parse_radar_track_id(std::string_view text, const FieldLocation& where, int max_track_id);
+
+// Text of one scan file from its detections, the UTC instant of its first row [ns] and its
+// 0-based position in the log.
+using RadarScanFormatter = std::function<std::string(
+    std::span<const RadarDetection> scan, std::int64_t first_unix_time_ns, std::size_t index)>;
+
+// Creates `folder` and writes one file per scan (split_radar_scans; scans without detections get
+// no file), named after the scan's first row. Throws std::invalid_argument when two scans would
+// share a file name (less than 1 ms apart) or a time is not finite, InputError when the folder or
+// a file cannot be written.
+void write_radar_scan_files(const std::filesystem::path& folder,
+                            std::span<const RadarDetection> detections, double start_unix_time,
+                            const RadarScanFormatter& format_scan);
+
+// ---- generic CSV
+// ----------------------------------------------------------------------------------
+
+constexpr std::string_view kRadarCsvHeader = "time,track_id,range,azimuth,range_rate,x,y,vx,vy,rcs";
+
+// Writes every column of kRadarCsvHeader; unknown values (no track id, no velocity, no RCS) are
+// empty fields. Numbers are shortest round-trip.
+std::string format_radar_csv(std::span<const RadarDetection> detections);
+void write_radar_csv(const std::filesystem::path& path, std::span<const RadarDetection> detections);
+
+// Throws InputError naming file, line and field for: no header, a missing required column, a
+// duplicated column, x without y or vx without vy, a wrong field count, a non-numeric or
+// non-finite number, a negative or non-integer track id, only one of vx and vy, no rows.
+RadarLog read_radar_csv(const std::filesystem::path& path);
+RadarLog parse_radar_csv(std::string_view text, const std::string& source_name);
+
+// ---- any layout
+// ----------------------------------------------------------------------------------
+
+// The file the generic layout is written to inside a radar folder.
+constexpr std::string_view kRadarCsvFileName = "detections.csv";
+
+// conti and delphi: scan files in `folder`; generic: `folder`/detections.csv. `detections` times
+// are relative to `start_unix_time` [s]; the generic CSV writes them as they are.
+void write_radar(const std::filesystem::path& folder, RadarLayout layout,
+                 std::span<const RadarDetection> detections, double start_unix_time);
+// Reads what write_radar writes; for the generic layout `input` may also be the CSV file itself.
+RadarLog read_radar(const std::filesystem::path& input, RadarLayout layout);
+
+// Fills range, azimuth and range_rate from x, y, vx, vy (range_rate 0 at range 0).
+void set_polar_from_cartesian(RadarDetection& detection);
+
+}  // namespace x2car::io
