@@ -1,0 +1,102 @@
+// x2car calibrate radar: a 2-D radar's mounting yaw from its detections and the GNSS/INS log
+// (x2car/radar).
+#include <spdlog/spdlog.h>
+
+#include <filesystem>
+#include <vector>
+
+#include "apps/x2car/calibration_output.hpp"
+#include "apps/x2car/subcommand.hpp"
+#include "x2car/io/ins_log.hpp"
+#include "x2car/io/radar_csv.hpp"
+#include "x2car/radar/radar_calibration.hpp"
+#include "x2car/radar/radar_ego_motion.hpp"
+
+namespace x2car::cli {
+namespace {
+
+struct CalibrateRadarArguments {
+  std::string input_path;
+  std::string ins_path;
+  std::string layout = "conti";
+  std::string method = "auto";
+  std::vector<double> lever_arm_m;  // x y of the radar on the car [m], optional
+  double min_speed = 3.0;
+  OutputArguments output;
+};
+
+radar::RadarCalibrationOptions calibration_options(const CalibrateRadarArguments& arguments) {
+  radar::RadarCalibrationOptions options;
+  options.method = radar::radar_method_from_string(arguments.method);
+  if (arguments.lever_arm_m.size() == 2) {
+    options.lever_arm_in_vehicle =
+        Eigen::Vector2d(arguments.lever_arm_m[0], arguments.lever_arm_m[1]);
+  }
+  options.min_speed_mps = arguments.min_speed;
+  return options;
+}
+
+int run_calibrate_radar(const CalibrateRadarArguments& arguments) {
+  const io::RadarLog radar_log =
+      io::read_radar(arguments.input_path, io::radar_layout_from_string(arguments.layout));
+  const io::InsLog ins_log = io::read_ins_log(arguments.ins_path);
+  spdlog::info("read {} radar detections ({}) from {} and {} GNSS/INS samples from {}",
+               radar_log.detections.size(), arguments.layout, arguments.input_path,
+               ins_log.records.size(), arguments.ins_path);
+  // Put the radar's times on the GNSS/INS log's clock.
+  const double offset_s =
+      radar::radar_to_ins_time_offset(radar_log.start_unix_time, ins_log.start_unix_time);
+  std::vector<io::RadarDetection> detections = radar_log.detections;
+  for (io::RadarDetection& detection : detections) detection.time += offset_s;
+  const CalibrationResult result =
+      radar::calibrate_radar(detections, ins_log.records, calibration_options(arguments));
+  return finish_calibration(result, arguments.output);
+}
+
+}  // namespace
+
+RunCommand setup_calibrate_radar_command(CLI::App& command) {
+  auto arguments = std::make_shared<CalibrateRadarArguments>();
+  command
+      .add_option("-i,--input", arguments->input_path,
+                  "Radar folder: scan files (conti, delphi) or detections.csv (generic)")
+      ->type_name("DIR")
+      ->required();
+  command
+      .add_option("--ins", arguments->ins_path,
+                  "GNSS/INS log: novatel_enu.csv, a generic CSV with a header, or a KITTI OXTS "
+                  "folder")
+      ->type_name("FILE")
+      ->required();
+  command.add_option("--layout", arguments->layout, "Layout of the radar files")
+      ->type_name("NAME")
+      ->check(CLI::IsMember({"conti", "delphi", "generic"}))
+      ->capture_default_str();
+  command
+      .add_option("--method", arguments->method,
+                  "velocity (Doppler of static targets), position (not implemented yet) or auto "
+                  "(velocity for now)")
+      ->type_name("NAME")
+      ->check(CLI::IsMember({"auto", "velocity", "position"}))
+      ->capture_default_str();
+  command
+      .add_option("--lever-arm", arguments->lever_arm_m,
+                  "The radar's x y on the car [m]; with it turns are used, without they are gated "
+                  "out")
+      ->expected(2)
+      ->type_name("X Y");
+  command.add_option("--min-speed", arguments->min_speed, "Slower samples are not used [m/s]")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  add_output_options(command, arguments->output);
+  command.footer(
+      "Roll and pitch are not observable by a 2-D radar and are reported as null. The yaw is "
+      "relative to the car's direction of motion. See docs/methods.md.\n"
+      "\n"
+      "Example:\n"
+      "  x2car calibrate radar --input drive/radar --ins drive/ins/novatel_enu.csv --out "
+      "radar.json");
+  return [arguments] { return run_calibrate_radar(*arguments); };
+}
+
+}  // namespace x2car::cli

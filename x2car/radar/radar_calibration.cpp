@@ -1,0 +1,237 @@
+#include "x2car/radar/radar_calibration.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include "x2car/core/robust_stats.hpp"
+#include "x2car/radar/radar_ego_motion.hpp"
+#include "x2car/radar/radar_velocity_method.hpp"
+
+namespace x2car::radar {
+namespace {
+
+void require(bool condition, const char* field) {
+  if (!condition) throw std::invalid_argument(fmt::format("radar calibration options: {}", field));
+}
+
+struct GatedSamples {
+  std::vector<RadarSample> samples;
+  std::int64_t outside_ins_span = 0;
+  std::int64_t slow = 0;
+  std::int64_t turning = 0;
+  std::int64_t too_close = 0;
+  double max_speed_mps = 0.0;
+};
+
+// Drops detections taken while the car is slow or (without a lever arm) turning, and those too
+// close to the radar for a stable azimuth.
+GatedSamples gate_samples(const RadarEgoMotion& motion, const RadarCalibrationOptions& options) {
+  GatedSamples gated;
+  gated.outside_ins_span = motion.counts.outside_ins_span;
+  const double max_yaw_rate =
+      options.lever_arm_in_vehicle ? options.max_yaw_rate_with_lever_arm : options.max_yaw_rate;
+  for (const RadarSample& sample : motion.samples) {
+    gated.max_speed_mps = std::max(gated.max_speed_mps, std::abs(sample.car_speed_mps));
+    if (std::abs(sample.car_speed_mps) < options.min_speed_mps) {
+      ++gated.slow;
+    } else if (std::abs(sample.yaw_rate) > max_yaw_rate) {
+      ++gated.turning;
+    } else if (sample.range < options.min_range_m) {
+      ++gated.too_close;
+    } else {
+      gated.samples.push_back(sample);
+    }
+  }
+  return gated;
+}
+
+struct WindowEstimates {
+  std::vector<double> times;    // window centres [s]
+  std::vector<double> yaws;     // [rad]
+  std::vector<double> weights;  // 1 / formal variance [1/rad^2]
+};
+
+// Per-window fits on the static detections, starting from the global psi.
+WindowEstimates window_estimates(std::span<const RadarSample> samples,
+                                 std::span<const std::uint8_t> static_mask, double yaw,
+                                 const RadarVelocityMethodOptions& options) {
+  std::map<std::int64_t, std::vector<RadarSample>> windows;
+  const double t0 = samples.front().time;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    if (!static_mask[i]) continue;
+    windows[static_cast<std::int64_t>(std::floor((samples[i].time - t0) / options.window_s))]
+        .push_back(samples[i]);
+  }
+  WindowEstimates estimates;
+  for (const auto& [index, window] : windows) {
+    if (static_cast<int>(window.size()) < options.min_window_points) continue;
+    const VelocityFit fit = fit_yaw_on(window, yaw, options);
+    if (!fit.ok || !(fit.formal_std > 0.0)) continue;
+    estimates.times.push_back(t0 + (static_cast<double>(index) + 0.5) * options.window_s);
+    estimates.yaws.push_back(yaw + angle_difference(fit.yaw, yaw));
+    estimates.weights.push_back(1.0 / (fit.formal_std * fit.formal_std));
+  }
+  return estimates;
+}
+
+CalibrationResult insufficient(std::string reason, const GatedSamples& gated) {
+  CalibrationResult result = insufficient_data("radar", std::move(reason));
+  result.method = "velocity";
+  result.rejections = {{"outside_ins_span", gated.outside_ins_span},
+                       {"slow", gated.slow},
+                       {"turning", gated.turning},
+                       {"too_close", gated.too_close}};
+  return result;
+}
+
+CalibrationResult velocity_method(const GatedSamples& gated,
+                                  const RadarVelocityMethodOptions& options) {
+  const std::vector<RadarSample>& samples = gated.samples;
+  if (static_cast<int>(samples.size()) < options.min_static_points) {
+    return insufficient(
+        fmt::format("only {} radar detections taken while the car moved straight at >= the "
+                    "minimum speed (fastest {:.1f} m/s); need {}",
+                    samples.size(), gated.max_speed_mps, options.min_static_points),
+        gated);
+  }
+  const CoarseSearch coarse = coarse_yaw_search(samples, options);
+  const VelocityFit fit = refine_yaw(samples, coarse.yaw, options);
+  if (!fit.ok || fit.static_count < options.min_static_points) {
+    return insufficient(fmt::format("only {} detections fit the static-target model; need {}",
+                                    fit.static_count, options.min_static_points),
+                        gated);
+  }
+  const WindowEstimates windows = window_estimates(samples, fit.static_mask, fit.yaw, options);
+
+  CalibrationResult result;
+  result.sensor = "radar";
+  result.method = "velocity";
+  result.status = CalibrationStatus::kOk;
+  result.yaw = fit.yaw;
+  result.yaw_std = fit.formal_std;
+  // The global fit is the estimate (it weighs every detection by its information); the windows'
+  // spread, inverse-variance weighted, gives its standard error when there are enough of them.
+  std::int64_t outlier_windows = 0;
+  if (static_cast<int>(windows.yaws.size()) >= options.min_windows_for_spread) {
+    const std::vector<bool> inliers =
+        mad_inlier_mask(windows.yaws, {.k = 3.0, .min_sigma = rad_from_deg(0.01)});
+    std::vector<double> yaws;
+    std::vector<double> weights;
+    for (std::size_t i = 0; i < inliers.size(); ++i) {
+      if (!inliers[i]) {
+        ++outlier_windows;
+        continue;
+      }
+      yaws.push_back(windows.yaws[i]);
+      weights.push_back(windows.weights[i]);
+    }
+    if (yaws.size() >= 2) {
+      result.yaw_std = std::max(standard_error_of_weighted_mean(yaws, weights), fit.formal_std);
+    }
+  }
+  result.support = {{"detections", static_cast<std::int64_t>(samples.size())},
+                    {"static_detections", fit.static_count},
+                    {"windows", static_cast<std::int64_t>(windows.yaws.size()) - outlier_windows}};
+  result.rejections = {{"outside_ins_span", gated.outside_ins_span},
+                       {"slow", gated.slow},
+                       {"turning", gated.turning},
+                       {"too_close", gated.too_close},
+                       {"not_static", static_cast<std::int64_t>(samples.size()) - fit.static_count},
+                       {"outlier_windows", outlier_windows}};
+  result.diagnostics = {{"coarse_yaw_deg", deg_from_rad(coarse.yaw)},
+                        {"coarse_consistent_fraction", static_cast<double>(coarse.consistent) /
+                                                           static_cast<double>(samples.size())},
+                        {"fit_yaw_deg", deg_from_rad(fit.yaw)},
+                        {"fit_formal_std_deg", deg_from_rad(fit.formal_std)},
+                        {"residual_sigma_mps", fit.residual_sigma_mps},
+                        {"iterations", fit.iterations}};
+  result.series.push_back({"window_yaw", "rad", windows.times, windows.yaws});
+  return result;
+}
+
+}  // namespace
+
+const char* to_string(RadarMethod method) {
+  switch (method) {
+    case RadarMethod::kAuto:
+      return "auto";
+    case RadarMethod::kVelocity:
+      return "velocity";
+    case RadarMethod::kPosition:
+      return "position";
+  }
+  return "auto";
+}
+
+RadarMethod radar_method_from_string(const std::string& text) {
+  for (const RadarMethod method :
+       {RadarMethod::kAuto, RadarMethod::kVelocity, RadarMethod::kPosition}) {
+    if (text == to_string(method)) return method;
+  }
+  throw std::invalid_argument(
+      fmt::format("unknown radar method '{}' (expected auto, velocity or position)", text));
+}
+
+void RadarVelocityMethodOptions::Check() const {
+  require(search_half_range >= 0.0 && search_half_range < kPi,
+          "velocity.search_half_range must be in [0, pi)");
+  require(search_step > 0.0, "velocity.search_step must be > 0");
+  require(coarse_tolerance_mps > 0.0, "velocity.coarse_tolerance_mps must be > 0");
+  require(gate_sigmas > 0.0, "velocity.gate_sigmas must be > 0");
+  require(min_gate_mps > 0.0, "velocity.min_gate_mps must be > 0");
+  require(huber_sigmas > 0.0, "velocity.huber_sigmas must be > 0");
+  require(max_iterations >= 1, "velocity.max_iterations must be >= 1");
+  require(convergence > 0.0, "velocity.convergence must be > 0");
+  require(window_s > 0.0, "velocity.window_s must be > 0");
+  require(min_window_points >= 3, "velocity.min_window_points must be >= 3");
+  require(min_windows_for_spread >= 2, "velocity.min_windows_for_spread must be >= 2");
+  require(min_static_points >= 3, "velocity.min_static_points must be >= 3");
+}
+
+void RadarCalibrationOptions::Check() const {
+  require(!lever_arm_in_vehicle || lever_arm_in_vehicle->allFinite(),
+          "lever_arm_in_vehicle must be finite");
+  require(min_speed_mps > 0.0, "min_speed_mps must be > 0");
+  require(max_yaw_rate >= 0.0, "max_yaw_rate must be >= 0");
+  require(max_yaw_rate_with_lever_arm >= 0.0, "max_yaw_rate_with_lever_arm must be >= 0");
+  require(min_range_m >= 0.0, "min_range_m must be >= 0");
+  require(yaw_rate_window_s > 0.0, "yaw_rate_window_s must be > 0");
+  velocity.Check();
+}
+
+CalibrationResult calibrate_radar(std::span<const io::RadarDetection> detections,
+                                  std::span<const io::InsRecord> ins,
+                                  const RadarCalibrationOptions& options) {
+  options.Check();
+  const auto start = std::chrono::steady_clock::now();
+  if (options.method == RadarMethod::kPosition) {
+    CalibrationResult result = insufficient_data(
+        "radar", "the position method is not implemented yet; use --method velocity or auto");
+    result.method = "position";
+    return result;
+  }
+  if (ins.size() < 2) {
+    return insufficient_data("radar",
+                             fmt::format("need at least 2 GNSS/INS records, got {}", ins.size()));
+  }
+  const GatedSamples gated = gate_samples(
+      radar_ego_motion(detections, ins, options.lever_arm_in_vehicle, options.yaw_rate_window_s),
+      options);
+  CalibrationResult result = velocity_method(gated, options.velocity);
+  if (options.method == RadarMethod::kAuto && result.ok()) {
+    result.reason = "auto: velocity method (the position method is not implemented yet)";
+  }
+  if (gated.outside_ins_span > 0 && !result.ok()) {
+    result.reason +=
+        fmt::format(" ({} detections outside the GNSS/INS time span)", gated.outside_ins_span);
+  }
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace x2car::radar

@@ -1,0 +1,91 @@
+// Radar -> car: the mounting yaw of a 2-D radar from its detections and the GNSS/INS log (DESIGN
+// §2, paper §III-D). Roll and pitch are not observable by a 2-D radar and are reported as null.
+//
+// Sign convention (io/radar_csv.hpp): range_rate is d range / dt, NEGATIVE when the target
+// approaches; azimuth is counter-clockwise from the radar's boresight. A static target seen at
+// azimuth theta by a radar with mounting yaw psi whose velocity over ground in the vehicle frame
+// is (v_x, v_y) has
+//   range_rate = -(v_x cos(theta + psi) + v_y sin(theta + psi)),
+// which for a car driving straight at speed v is range_rate = -v cos(theta + psi). psi is the yaw
+// of vehicle_from_radar relative to the car's direction of motion (its x axis, by the
+// non-holonomic constraint; radar_ego_motion.hpp).
+//
+// Velocity method (the paper's primary): keep detections taken while the car moves at least
+// min_speed_mps (and, without the radar's lever arm, while it does not turn); coarse search of psi
+// over [-A, A] in steps, counting detections within coarse_tolerance_mps of the static model; then
+// iterate: select the detections consistent with the static model under the current psi (an
+// adaptive k-sigma gate), fit psi by Gauss-Newton with Huber weights, until psi stops moving.
+// Per-window fits on the selected detections give the spread: the reported yaw is the global fit
+// and its standard error comes from the inverse-variance weighted spread of the window estimates
+// (windows rejected by median/MAD), never below the least-squares standard error; with fewer than
+// min_windows_for_spread windows, from the least-squares covariance alone.
+//
+// The position method (paper's triangle test on tracked objects) is not implemented yet; kAuto
+// uses the velocity method and says so in the result's reason.
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <span>
+#include <string>
+
+#include "x2car/core/calibration_result.hpp"
+#include "x2car/core/rotation.hpp"
+#include "x2car/io/ins_csv.hpp"
+#include "x2car/io/radar_csv.hpp"
+
+namespace x2car::radar {
+
+enum class RadarMethod { kAuto, kVelocity, kPosition };
+
+// "auto", "velocity", "position"; parsing throws std::invalid_argument listing the names.
+const char* to_string(RadarMethod method);
+RadarMethod radar_method_from_string(const std::string& text);
+
+struct RadarVelocityMethodOptions {
+  double search_half_range = rad_from_deg(45.0);  // A: coarse search over [-A, A] (paper) [rad]
+  double search_step = rad_from_deg(5.0);         // coarse grid step (paper) [rad]
+  // A detection counts as consistent with the static model in the coarse search within this
+  // range-rate tolerance; wide enough for half a grid step of model error at urban speeds [m/s].
+  double coarse_tolerance_mps = 0.5;
+  // Static selection during the refinement: |residual| <= max(gate_sigmas * robust sigma of the
+  // selected residuals, min_gate_mps).
+  double gate_sigmas = 3.0;
+  double min_gate_mps = 0.1;  // [m/s]
+  double huber_sigmas = 1.5;  // Huber kernel width in robust sigmas
+  int max_iterations = 30;
+  double convergence = rad_from_deg(1e-5);  // stop when psi moves less than this [rad]
+  double window_s = 10.0;                   // per-window estimates [s]
+  int min_window_points = 50;               // static detections a window needs to count
+  int min_windows_for_spread = 3;           // fewer: standard error from the covariance
+  int min_static_points = 100;              // fewer static detections: insufficient data
+
+  void Check() const;  // throws std::invalid_argument naming the offending field
+};
+
+struct RadarCalibrationOptions {
+  RadarMethod method = RadarMethod::kAuto;
+  // The radar's position on the car, t_V_R's x and y [m]. When given, the radar's velocity
+  // includes yaw rate x lever arm and turns are kept up to max_yaw_rate_with_lever_arm; when not,
+  // detections taken while |yaw rate| > max_yaw_rate are dropped.
+  std::optional<Eigen::Vector2d> lever_arm_in_vehicle;
+  double min_speed_mps = 3.0;                               // slower: dropped [m/s]
+  double max_yaw_rate = rad_from_deg(0.5);                  // without lever arm [rad/s]
+  double max_yaw_rate_with_lever_arm = rad_from_deg(30.0);  // with it [rad/s]
+  double min_range_m = 1.0;                                 // closer detections dropped [m]
+  // The yaw rate is the slope of the INS yaw over this window (radar_ego_motion.hpp) [s].
+  double yaw_rate_window_s = 1.0;
+  RadarVelocityMethodOptions velocity;
+
+  void Check() const;  // throws std::invalid_argument naming the offending field
+};
+
+// `detections` with times on the INS clock (radar_to_ins_time_offset), `ins` with strictly
+// increasing times. Detections outside the INS span are dropped and counted
+// (rejections["outside_ins_span"]). Returns an ok result or insufficient_data with a reason, never
+// NaN angles; throws std::invalid_argument only on invalid options.
+CalibrationResult calibrate_radar(std::span<const io::RadarDetection> detections,
+                                  std::span<const io::InsRecord> ins,
+                                  const RadarCalibrationOptions& options = {});
+
+}  // namespace x2car::radar

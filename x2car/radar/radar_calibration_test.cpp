@@ -1,0 +1,232 @@
+#include "x2car/radar/radar_calibration.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <stdexcept>
+
+#include "x2car/io/ins_log.hpp"
+#include "x2car/io/novatel_csv.hpp"
+#include "x2car/radar/radar_ego_motion.hpp"
+#include "x2car/radar/radar_velocity_method.hpp"
+#include "x2car/sim/radar_model.hpp"
+#include "x2car/sim/radar_scene.hpp"
+#include "x2car/sim/simulation.hpp"
+
+namespace x2car::radar {
+namespace {
+
+using ::testing::HasSubstr;
+
+// One urban drive with its radar scene, shared by every mounting tried on it.
+struct Drive {
+  sim::Simulation simulation;
+  sim::RadarScene scene;
+};
+
+const Drive& urban_drive(std::uint64_t seed) {
+  static std::map<std::uint64_t, Drive> drives;
+  auto found = drives.find(seed);
+  if (found == drives.end()) {
+    sim::SimulationOptions options;
+    options.scenario = sim::Scenario::kUrban;
+    options.duration_s = 60.0;
+    options.seed = seed;
+    Drive drive;
+    drive.simulation = sim::simulate(options);
+    drive.scene = sim::generate_radar_scene(drive.simulation.states, {}, seed + 1000);
+    found = drives.emplace(seed, std::move(drive)).first;
+  }
+  return found->second;
+}
+
+// The radar on the front bumper, 3.6 m ahead of the rear axle and 0.3 m left of the centre line.
+const Eigen::Vector3d kLeverArm{3.6, 0.3, 0.5};
+
+std::vector<io::RadarDetection> radar_detections(const Drive& drive, double yaw_deg,
+                                                 const sim::RadarOptions& radar,
+                                                 std::uint64_t seed) {
+  const Eigen::Isometry3d vehicle_from_radar = make_transform(
+      EulerAngles{.roll = 0.0, .pitch = 0.0, .yaw = rad_from_deg(yaw_deg)}, kLeverArm);
+  const std::vector<sim::RadarScan> scans =
+      sim::simulate_radar(drive.simulation.states, vehicle_from_radar, drive.scene, radar, seed);
+  return sim::radar_measurements(scans);
+}
+
+double yaw_error_deg(std::uint64_t seed, double truth_deg, const sim::RadarOptions& radar,
+                     const RadarCalibrationOptions& options) {
+  const Drive& drive = urban_drive(seed);
+  const auto detections = radar_detections(drive, truth_deg, radar, seed);
+  const CalibrationResult result = calibrate_radar(detections, drive.simulation.ins, options);
+  EXPECT_TRUE(result.ok()) << result.reason;
+  if (!result.ok()) return NAN;
+  EXPECT_FALSE(result.roll);
+  EXPECT_FALSE(result.pitch);
+  EXPECT_TRUE(result.yaw_std && std::isfinite(*result.yaw_std));
+  EXPECT_EQ(result.method, "velocity");
+  return deg_from_rad(angle_difference(*result.yaw, rad_from_deg(truth_deg)));
+}
+
+RadarCalibrationOptions with_lever_arm() {
+  RadarCalibrationOptions options;
+  options.lever_arm_in_vehicle = kLeverArm.head<2>();
+  return options;
+}
+
+// Issue 6: truth 0, 10, 20, -7 deg, urban 60 s, 5 seeds: velocity method |error| <= 0.1 deg.
+// Measured: Conti within 0.057 deg, Delphi within 0.096 deg (fewer, noisier detections in a
+// narrower field of view); every error is within 2.3 reported standard errors.
+void expect_issue_accuracy(const sim::RadarOptions& radar, const RadarCalibrationOptions& options) {
+  for (const double truth_deg : {0.0, 10.0, 20.0, -7.0}) {
+    for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+      SCOPED_TRACE(::testing::Message() << "truth " << truth_deg << " deg, seed " << seed);
+      EXPECT_LE(std::abs(yaw_error_deg(seed, truth_deg, radar, options)), 0.1);
+    }
+  }
+}
+
+TEST(RadarVelocityMethod, ContiMeetsATenthOfADegree) {
+  expect_issue_accuracy(sim::RadarOptions::conti_ars408(), with_lever_arm());
+}
+
+TEST(RadarVelocityMethod, DelphiMeetsATenthOfADegree) {
+  expect_issue_accuracy(sim::RadarOptions::delphi_esr(), with_lever_arm());
+}
+
+// Without the lever arm, turns are gated out by the yaw rate.
+TEST(RadarVelocityMethod, WithoutLeverArmTurnsAreGatedOut) {
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    SCOPED_TRACE(::testing::Message() << "seed " << seed);
+    EXPECT_LE(std::abs(yaw_error_deg(seed, 10.0, sim::RadarOptions::conti_ars408(), {})), 0.1);
+  }
+}
+
+// The coarse search finds psi 30 deg away from the initial guess 0.
+TEST(RadarVelocityMethod, CoarseSearchRecoversThirtyDegrees) {
+  const Drive& drive = urban_drive(2);
+  const auto detections = radar_detections(drive, 30.0, sim::RadarOptions::conti_ars408(), 2);
+  const CalibrationResult result =
+      calibrate_radar(detections, drive.simulation.ins, with_lever_arm());
+  ASSERT_TRUE(result.ok()) << result.reason;
+  EXPECT_NEAR(result.diagnostics.at("coarse_yaw_deg"), 30.0, 5.0);
+  EXPECT_NEAR(deg_from_rad(*result.yaw), 30.0, 0.1);
+}
+
+// Sign: a radar yawed +10 deg (boresight turned left) reports +10, and a static target ahead-left
+// while driving forward approaches (negative range rate) as the header states.
+TEST(RadarVelocityMethod, SignConvention) {
+  RadarSample sample;
+  sample.azimuth = rad_from_deg(20.0);
+  sample.radar_velocity_in_vehicle = {10.0, 0.0};
+  EXPECT_NEAR(static_range_rate(sample, rad_from_deg(10.0)), -10.0 * std::cos(rad_from_deg(30.0)),
+              1e-12);
+  const Drive& drive = urban_drive(1);
+  const auto detections = radar_detections(drive, 10.0, sim::RadarOptions::conti_ars408(), 1);
+  const CalibrationResult result =
+      calibrate_radar(detections, drive.simulation.ins, with_lever_arm());
+  ASSERT_TRUE(result.ok()) << result.reason;
+  EXPECT_NEAR(deg_from_rad(*result.yaw), 10.0, 0.1);
+}
+
+// Through the files, as the CLI reads them: a Delphi scan folder and novatel_enu.csv, each with
+// its own UTC time 0, aligned by radar_to_ins_time_offset.
+TEST(RadarCalibration, DelphiFilesAndNovatelLogRoundTrip) {
+  const Drive& drive = urban_drive(3);
+  const auto detections = radar_detections(drive, -7.0, sim::RadarOptions::delphi_esr(), 3);
+  const std::filesystem::path folder =
+      std::filesystem::path(::testing::TempDir()) / "x2car_radar_calibration_round_trip";
+  std::filesystem::remove_all(folder);
+  io::write_radar(folder / "radar", io::RadarLayout::kDelphi, detections,
+                  drive.simulation.start_unix_time);
+  io::write_novatel_enu(folder / "novatel_enu.csv", drive.simulation.ins,
+                        drive.simulation.start_unix_time + drive.simulation.ins.front().time);
+  const io::RadarLog radar_log = io::read_radar(folder / "radar", io::RadarLayout::kDelphi);
+  const io::InsLog ins_log = io::read_ins_log(folder / "novatel_enu.csv");
+  std::vector<io::RadarDetection> read_back = radar_log.detections;
+  const double offset_s =
+      radar_to_ins_time_offset(radar_log.start_unix_time, ins_log.start_unix_time);
+  for (io::RadarDetection& detection : read_back) detection.time += offset_s;
+  const CalibrationResult result = calibrate_radar(read_back, ins_log.records, with_lever_arm());
+  ASSERT_TRUE(result.ok()) << result.reason;
+  EXPECT_NEAR(deg_from_rad(*result.yaw), -7.0, 0.1);
+  EXPECT_EQ(result.rejections.at("outside_ins_span"), 0);
+}
+
+TEST(RadarCalibration, CarThatNeverMovesIsInsufficientData) {
+  const Drive& drive = urban_drive(1);
+  const auto detections = radar_detections(drive, 5.0, sim::RadarOptions::conti_ars408(), 1);
+  std::vector<io::InsRecord> standing(drive.simulation.ins.begin(), drive.simulation.ins.end());
+  for (io::InsRecord& record : standing) {
+    record.position_enu = standing.front().position_enu;
+    record.velocity_enu.setZero();
+    record.attitude = standing.front().attitude;
+  }
+  const CalibrationResult result = calibrate_radar(detections, standing);
+  EXPECT_FALSE(result.ok());
+  EXPECT_FALSE(result.yaw);
+  EXPECT_THAT(result.reason, HasSubstr("fastest 0.0 m/s"));
+  EXPECT_GT(result.rejections.at("slow"), 0);
+}
+
+TEST(RadarCalibration, DetectionsOutsideTheInsSpanAreCounted) {
+  const Drive& drive = urban_drive(1);
+  auto detections = radar_detections(drive, 5.0, sim::RadarOptions::conti_ars408(), 1);
+  const double end = drive.simulation.ins.back().time;
+  io::RadarDetection late = detections.back();
+  for (int i = 0; i < 7; ++i) {
+    late.time = end + 1.0 + i;
+    detections.push_back(late);
+  }
+  const CalibrationResult result =
+      calibrate_radar(detections, drive.simulation.ins, with_lever_arm());
+  ASSERT_TRUE(result.ok()) << result.reason;
+  EXPECT_EQ(result.rejections.at("outside_ins_span"), 7);
+}
+
+TEST(RadarCalibration, NoDetectionsIsInsufficientDataNotACrash) {
+  const Drive& drive = urban_drive(1);
+  const CalibrationResult result = calibrate_radar({}, drive.simulation.ins);
+  EXPECT_FALSE(result.ok());
+  EXPECT_THAT(result.reason, HasSubstr("only 0 radar detections"));
+}
+
+TEST(RadarCalibration, PositionMethodSaysItIsMissing) {
+  RadarCalibrationOptions options;
+  options.method = RadarMethod::kPosition;
+  const CalibrationResult result = calibrate_radar({}, urban_drive(1).simulation.ins, options);
+  EXPECT_FALSE(result.ok());
+  EXPECT_THAT(result.reason, HasSubstr("not implemented"));
+}
+
+TEST(RadarCalibration, OptionsAreChecked) {
+  RadarCalibrationOptions options;
+  options.velocity.search_step = 0.0;
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+  EXPECT_EQ(radar_method_from_string("velocity"), RadarMethod::kVelocity);
+  EXPECT_THROW(radar_method_from_string("doppler"), std::invalid_argument);
+}
+
+TEST(RadarEgoMotion, LeverArmAddsYawRateCrossLeverArm) {
+  std::vector<io::InsRecord> ins(3);
+  for (int i = 0; i < 3; ++i) {
+    ins[i].time = i;
+    ins[i].velocity_enu = {10.0, 0.0, 0.0};
+    ins[i].attitude.yaw = 0.1 * i;  // 0.1 rad/s left
+  }
+  io::RadarDetection detection;
+  detection.time = 1.0;
+  const RadarEgoMotion motion =
+      radar_ego_motion(std::vector{detection}, ins, Eigen::Vector2d(4.0, 1.0));
+  ASSERT_EQ(motion.samples.size(), 1u);
+  EXPECT_NEAR(motion.samples[0].yaw_rate, 0.1, 1e-12);
+  EXPECT_NEAR(motion.samples[0].radar_velocity_in_vehicle.x(), 10.0 - 0.1 * 1.0, 1e-12);
+  EXPECT_NEAR(motion.samples[0].radar_velocity_in_vehicle.y(), 0.1 * 4.0, 1e-12);
+  EXPECT_DOUBLE_EQ(radar_to_ins_time_offset(100.5, 100.0), 0.5);
+  EXPECT_DOUBLE_EQ(radar_to_ins_time_offset(0.0, 100.0), 0.0);
+}
+
+}  // namespace
+}  // namespace x2car::radar

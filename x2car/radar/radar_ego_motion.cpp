@@ -1,0 +1,143 @@
+#include "x2car/radar/radar_ego_motion.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "x2car/core/rotation.hpp"
+
+namespace x2car::radar {
+namespace {
+
+struct CarMotion {
+  double speed_mps = 0.0;  // signed, along the car's x axis
+  double yaw_rate = 0.0;   // [rad/s]
+};
+
+bool has_device_velocity(std::span<const io::InsRecord> ins) {
+  return std::any_of(ins.begin(), ins.end(),
+                     [](const io::InsRecord& r) { return r.velocity_enu.head<2>().norm() > 0.0; });
+}
+
+// Central differences (one-sided at the ends) of the records i-1, i+1.
+std::pair<std::size_t, std::size_t> neighbours(std::size_t i, std::size_t count) {
+  return {i == 0 ? 0 : i - 1, std::min(i + 1, count - 1)};
+}
+
+// Unwrapped INS yaw [rad], continuous across the +-pi seam.
+std::vector<double> unwrapped_yaw(std::span<const io::InsRecord> ins) {
+  std::vector<double> yaw(ins.size());
+  yaw[0] = ins[0].attitude.yaw;
+  for (std::size_t i = 1; i < ins.size(); ++i) {
+    yaw[i] = yaw[i - 1] + angle_difference(ins[i].attitude.yaw, ins[i - 1].attitude.yaw);
+  }
+  return yaw;
+}
+
+// Yaw rate at record i: least-squares slope of the unwrapped yaw over the records within
+// +-half_window_s (the heading's white noise makes plain differences of 100 Hz records useless).
+double yaw_rate_at(std::span<const io::InsRecord> ins, std::span<const double> yaw, std::size_t i,
+                   double half_window_s) {
+  std::size_t first = i;
+  std::size_t last = i;
+  while (first > 0 && ins[i].time - ins[first - 1].time <= half_window_s) --first;
+  while (last + 1 < ins.size() && ins[last + 1].time - ins[i].time <= half_window_s) ++last;
+  if (last == first) {
+    first = i == 0 ? 0 : i - 1;
+    last = std::min(i + 1, ins.size() - 1);
+  }
+  double sum_t = 0.0;
+  double sum_y = 0.0;
+  const auto count = static_cast<double>(last - first + 1);
+  for (std::size_t j = first; j <= last; ++j) {
+    sum_t += ins[j].time - ins[i].time;
+    sum_y += yaw[j] - yaw[i];
+  }
+  const double mean_t = sum_t / count;
+  const double mean_y = sum_y / count;
+  double sum_tt = 0.0;
+  double sum_ty = 0.0;
+  for (std::size_t j = first; j <= last; ++j) {
+    const double dt = ins[j].time - ins[i].time - mean_t;
+    sum_tt += dt * dt;
+    sum_ty += dt * (yaw[j] - yaw[i] - mean_y);
+  }
+  return sum_tt > 0.0 ? sum_ty / sum_tt : 0.0;
+}
+
+// Speed from the velocity's norm (3-D: on a grade the car still moves along its x axis, in the
+// radar's plane); negative when it points backwards relative to the INS's x axis (the INS mounting
+// yaw is a few degrees, far from 90).
+std::vector<CarMotion> car_motion_at_records(std::span<const io::InsRecord> ins,
+                                             double yaw_rate_window_s) {
+  const bool device_velocity = has_device_velocity(ins);
+  const std::vector<double> yaw = unwrapped_yaw(ins);
+  std::vector<CarMotion> motion(ins.size());
+  for (std::size_t i = 0; i < ins.size(); ++i) {
+    const auto [before, after] = neighbours(i, ins.size());
+    const double dt = ins[after].time - ins[before].time;
+    const Eigen::Vector3d velocity_enu =
+        device_velocity
+            ? ins[i].velocity_enu
+            : Eigen::Vector3d((ins[after].position_enu - ins[before].position_enu) / dt);
+    const double speed = velocity_enu.norm();
+    const bool backwards =
+        speed > 0.0 && std::abs(angle_difference(std::atan2(velocity_enu.y(), velocity_enu.x()),
+                                                 ins[i].attitude.yaw)) > kPi / 2.0;
+    motion[i].speed_mps = backwards ? -speed : speed;
+    motion[i].yaw_rate = yaw_rate_at(ins, yaw, i, yaw_rate_window_s / 2.0);
+  }
+  return motion;
+}
+
+}  // namespace
+
+RadarEgoMotion radar_ego_motion(std::span<const io::RadarDetection> detections,
+                                std::span<const io::InsRecord> ins,
+                                const std::optional<Eigen::Vector2d>& lever_arm_in_vehicle,
+                                double yaw_rate_window_s) {
+  if (ins.size() < 2) {
+    throw std::invalid_argument("radar_ego_motion: need at least 2 GNSS/INS records");
+  }
+  const std::vector<CarMotion> motion = car_motion_at_records(ins, yaw_rate_window_s);
+  RadarEgoMotion result;
+  result.samples.reserve(detections.size());
+  for (const io::RadarDetection& detection : detections) {
+    if (!(detection.time >= ins.front().time && detection.time <= ins.back().time)) {
+      ++result.counts.outside_ins_span;
+      continue;
+    }
+    const auto upper = std::upper_bound(
+        ins.begin(), ins.end(), detection.time,
+        [](double time, const io::InsRecord& record) { return time < record.time; });
+    const std::size_t after =
+        std::min(static_cast<std::size_t>(upper - ins.begin()), ins.size() - 1);
+    const std::size_t before = after - 1;
+    const double fraction =
+        (detection.time - ins[before].time) / (ins[after].time - ins[before].time);
+    RadarSample sample;
+    sample.time = detection.time;
+    sample.track_id = detection.track_id;
+    sample.range = detection.range;
+    sample.azimuth = detection.azimuth;
+    sample.range_rate = detection.range_rate;
+    sample.car_speed_mps = std::lerp(motion[before].speed_mps, motion[after].speed_mps, fraction);
+    sample.yaw_rate = std::lerp(motion[before].yaw_rate, motion[after].yaw_rate, fraction);
+    // v_radar = v_car + omega x t_V_R, with v_car = (s, 0) (non-holonomic).
+    sample.radar_velocity_in_vehicle = {sample.car_speed_mps, 0.0};
+    if (lever_arm_in_vehicle) {
+      sample.radar_velocity_in_vehicle +=
+          sample.yaw_rate * Eigen::Vector2d(-lever_arm_in_vehicle->y(), lever_arm_in_vehicle->x());
+    }
+    result.samples.push_back(sample);
+  }
+  return result;
+}
+
+double radar_to_ins_time_offset(double radar_start_unix_time,
+                                const std::optional<double>& ins_start_unix_time) {
+  if (radar_start_unix_time == 0.0 || !ins_start_unix_time) return 0.0;
+  return radar_start_unix_time - *ins_start_unix_time;
+}
+
+}  // namespace x2car::radar

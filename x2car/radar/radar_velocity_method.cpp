@@ -1,0 +1,146 @@
+#include "x2car/radar/radar_velocity_method.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "x2car/core/robust_stats.hpp"
+
+namespace x2car::radar {
+namespace {
+
+// Residual r = measured - predicted range rate and its derivative dr/dpsi.
+struct Residual {
+  double value = 0.0;       // [m/s]
+  double derivative = 0.0;  // [m/s/rad]
+};
+
+Residual residual_at(const RadarSample& sample, double yaw) {
+  const double angle = sample.azimuth + yaw;
+  const Eigen::Vector2d& v = sample.radar_velocity_in_vehicle;
+  // predicted = -(v_x cos + v_y sin); d predicted / dpsi = v_x sin - v_y cos.
+  return {sample.range_rate - static_range_rate(sample, yaw),
+          -(v.x() * std::sin(angle) - v.y() * std::cos(angle))};
+}
+
+double huber_weight(double residual, double width) {
+  const double magnitude = std::abs(residual);
+  return magnitude <= width ? 1.0 : width / magnitude;
+}
+
+std::vector<double> selected_residuals(std::span<const RadarSample> samples,
+                                       std::span<const std::uint8_t> mask, double yaw) {
+  std::vector<double> residuals;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    if (mask.empty() || mask[i]) residuals.push_back(residual_at(samples[i], yaw).value);
+  }
+  return residuals;
+}
+
+// Gauss-Newton steps with Huber weights on the masked samples: psi += -sum(w J r) / sum(w J^2).
+// Returns false when the samples carry no information on psi (all dead ahead, or none).
+bool gauss_newton(std::span<const RadarSample> samples, std::span<const std::uint8_t> mask,
+                  double huber_width, const RadarVelocityMethodOptions& options, double& yaw,
+                  double& information) {
+  for (int step = 0; step < 10; ++step) {
+    double gradient = 0.0;
+    information = 0.0;
+    double unweighted_information = 0.0;
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      if (!mask.empty() && !mask[i]) continue;
+      const Residual r = residual_at(samples[i], yaw);
+      const double weight = huber_weight(r.value, huber_width);
+      gradient += weight * r.derivative * r.value;
+      information += weight * r.derivative * r.derivative;
+      unweighted_information += r.derivative * r.derivative;
+    }
+    if (!(information > 1e-9) || !std::isfinite(gradient)) return false;
+    const double delta = -gradient / information;
+    information = unweighted_information;  // for the covariance: sigma^2 / sum J^2
+    yaw = wrap_angle(yaw + std::clamp(delta, -0.1, 0.1));
+    if (std::abs(delta) < options.convergence) break;
+  }
+  return true;
+}
+
+}  // namespace
+
+double static_range_rate(const RadarSample& sample, double yaw) {
+  const double angle = sample.azimuth + yaw;
+  const Eigen::Vector2d& v = sample.radar_velocity_in_vehicle;
+  return -(v.x() * std::cos(angle) + v.y() * std::sin(angle));
+}
+
+CoarseSearch coarse_yaw_search(std::span<const RadarSample> samples,
+                               const RadarVelocityMethodOptions& options) {
+  CoarseSearch best{.yaw = 0.0, .consistent = -1};
+  const int steps = static_cast<int>(std::floor(options.search_half_range / options.search_step));
+  for (int k = -steps; k <= steps; ++k) {
+    const double yaw = k * options.search_step;
+    const auto consistent = std::count_if(samples.begin(), samples.end(), [&](const auto& sample) {
+      return std::abs(residual_at(sample, yaw).value) <= options.coarse_tolerance_mps;
+    });
+    // Ties go to the smaller |yaw| (k runs from -steps, so compare strictly and prefer |k| small).
+    if (consistent > best.consistent ||
+        (consistent == best.consistent && std::abs(yaw) < std::abs(best.yaw))) {
+      best = {yaw, consistent};
+    }
+  }
+  return best;
+}
+
+VelocityFit fit_yaw_on(std::span<const RadarSample> samples, double initial_yaw,
+                       const RadarVelocityMethodOptions& options) {
+  VelocityFit fit;
+  fit.yaw = initial_yaw;
+  if (samples.size() < 3) return fit;
+  const std::vector<double> start = selected_residuals(samples, {}, initial_yaw);
+  const double sigma = std::max(robust_sigma(start), 1e-3);
+  double information = 0.0;
+  if (!gauss_newton(samples, {}, options.huber_sigmas * sigma, options, fit.yaw, information)) {
+    return fit;
+  }
+  const std::vector<double> residuals = selected_residuals(samples, {}, fit.yaw);
+  fit.residual_sigma_mps = robust_sigma(residuals);
+  fit.formal_std = std::max(fit.residual_sigma_mps, 1e-3) / std::sqrt(information);
+  fit.static_count = static_cast<std::int64_t>(samples.size());
+  fit.ok = std::isfinite(fit.yaw) && std::isfinite(fit.formal_std);
+  return fit;
+}
+
+VelocityFit refine_yaw(std::span<const RadarSample> samples, double initial_yaw,
+                       const RadarVelocityMethodOptions& options) {
+  VelocityFit fit;
+  fit.yaw = initial_yaw;
+  fit.static_mask.assign(samples.size(), 0);
+  double gate = options.coarse_tolerance_mps;
+  double information = 0.0;
+  for (fit.iterations = 1; fit.iterations <= options.max_iterations; ++fit.iterations) {
+    // 1. Static selection under the current psi.
+    std::vector<std::uint8_t> mask(samples.size(), 0);
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      mask[i] = std::abs(residual_at(samples[i], fit.yaw).value) <= gate ? 1 : 0;
+    }
+    const std::vector<double> residuals = selected_residuals(samples, mask, fit.yaw);
+    if (residuals.size() < 3) return fit;
+    const double sigma = std::max(robust_sigma(residuals), 1e-3);
+    // 2. Robust least squares for psi on the selection.
+    const double previous_yaw = fit.yaw;
+    if (!gauss_newton(samples, mask, options.huber_sigmas * sigma, options, fit.yaw, information)) {
+      return fit;
+    }
+    const bool same_selection = mask == fit.static_mask;
+    fit.static_mask = std::move(mask);
+    fit.residual_sigma_mps = sigma;
+    gate = std::max(options.gate_sigmas * sigma, options.min_gate_mps);
+    if (same_selection && std::abs(angle_difference(fit.yaw, previous_yaw)) < options.convergence) {
+      break;
+    }
+  }
+  fit.iterations = std::min(fit.iterations, options.max_iterations);
+  fit.static_count = std::count(fit.static_mask.begin(), fit.static_mask.end(), 1);
+  fit.formal_std = fit.residual_sigma_mps / std::sqrt(information);
+  fit.ok = std::isfinite(fit.yaw) && std::isfinite(fit.formal_std);
+  return fit;
+}
+
+}  // namespace x2car::radar
