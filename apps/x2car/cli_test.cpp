@@ -183,6 +183,21 @@ TEST(Simulate, BadArgumentsExitWithTwo) {
   const CliRun run = run_x2car("simulate --mounting " + broken.string() + out);
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_THAT(run.output, HasSubstr(broken.string()));
+  EXPECT_EQ(run_x2car("simulate --sensors lidar --lidar-beams 48" + out).exit_code, 2);
+  EXPECT_EQ(run_x2car("simulate --sensors lidar --lidar-format las" + out).exit_code, 2);
+}
+
+TEST(Simulate, WritesLidarSweepsInTheChosenFormat) {
+  const auto folder = std::filesystem::path(::testing::TempDir()) / "cli_simulate_lidar";
+  std::filesystem::remove_all(folder);
+  const CliRun run = run_x2car("simulate --duration 1 --sensors ins,lidar --lidar-beams 32 " +
+                               std::string("--lidar-format kitti --out ") + folder.string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("lidar: 32 beams at 10 Hz (kitti)"));
+  EXPECT_THAT(run.output, HasSubstr("    lidar "));  // its true mounting
+  EXPECT_TRUE(std::filesystem::exists(folder / "lidar/velodyne/000009.bin"));
+  EXPECT_TRUE(std::filesystem::exists(folder / "lidar/times.txt"));
+  EXPECT_FALSE(std::filesystem::exists(folder / "lidar/000000.000000.pcd"));
 }
 
 }  // namespace

@@ -22,6 +22,8 @@ struct SimulateArguments {
   std::vector<std::string> sensors = {"ins"};
   std::string mounting_path;
   std::string ins_preset = "rtk";
+  std::string lidar_format = "pcd";
+  int lidar_beams = 64;
 };
 
 sim::SimulationOptions simulation_options(const SimulateArguments& arguments) {
@@ -31,6 +33,8 @@ sim::SimulationOptions simulation_options(const SimulateArguments& arguments) {
   options.seed = arguments.seed;
   options.sensors = arguments.sensors;
   options.ins = arguments.ins_preset == "sps" ? sim::InsOptions::sps() : sim::InsOptions::rtk();
+  options.lidar.beams = arguments.lidar_beams;
+  options.lidar_format = sim::lidar_file_format_from_string(arguments.lidar_format);
   if (!arguments.mounting_path.empty()) {
     options.mountings = io::read_mountings(arguments.mounting_path);
   }
@@ -43,6 +47,12 @@ void print_summary(const sim::Simulation& simulation, const std::string& out_dir
                            truth.duration_s, truth.scenario, truth.seed, seconds, out_dir);
   std::cout << fmt::format("  trajectory: {} states; ins: {} samples\n", simulation.states.size(),
                            simulation.ins.size());
+  if (simulation.lidar) {
+    std::cout << fmt::format("  lidar: {} beams at {:g} Hz ({}); world: {} objects, {} movers\n",
+                             simulation.lidar->options.beams, simulation.lidar->options.rate_hz,
+                             sim::to_string(simulation.lidar->format),
+                             simulation.world.objects.size(), simulation.world.movers.size());
+  }
   std::cout << "  true mountings (vehicle_from_sensor; x y z [m], roll pitch yaw [deg]):\n";
   for (const auto& [sensor, mounting] : truth.vehicle_from_sensor) {
     std::cout << fmt::format("    {:<7} {:7.3f} {:7.3f} {:7.3f}   {:8.4f} {:8.4f} {:8.4f}\n",
@@ -95,14 +105,28 @@ RunCommand setup_simulate_command(CLI::App& command) {
       ->type_name("NAME")
       ->check(CLI::IsMember({"rtk", "sps"}))
       ->capture_default_str();
+  command
+      .add_option("--lidar-format", arguments->lidar_format,
+                  "LiDAR sweeps as pcd (binary PCD), kitti (velodyne .bin + times.txt) or both")
+      ->type_name("NAME")
+      ->check(CLI::IsMember({"pcd", "kitti", "both"}))
+      ->capture_default_str();
+  command
+      .add_option("--lidar-beams", arguments->lidar_beams,
+                  "LiDAR beam table: 32 (OS1-32-like), 64 (HDL-64-like) or 128 (Pandar128-like)")
+      ->type_name("N")
+      ->check(CLI::IsMember({32, 64, 128}))
+      ->capture_default_str();
   command.footer(
       "Writes DIR/ground_truth.yaml (every sensor's true vehicle_from_<sensor>), "
       "DIR/trajectory.csv\n"
       "(the car's true motion at 100 Hz) and each sensor's data (DIR/ins/novatel_enu.csv and\n"
-      "DIR/ins/ins.csv); see docs/simulator.md and docs/formats.md. Same arguments, same bytes.\n"
+      "DIR/ins/ins.csv; DIR/lidar/<start seconds>.pcd, one per sweep); see docs/simulator.md and\n"
+      "docs/formats.md. Same arguments, same bytes.\n"
       "\n"
       "Example:\n"
-      "  x2car simulate --scenario urban --duration 120 --seed 3 --out /tmp/drive");
+      "  x2car simulate --scenario urban --duration 120 --seed 3 --out /tmp/drive\n"
+      "  x2car simulate --duration 60 --sensors ins,lidar --lidar-beams 32 --out /tmp/lidar");
   return [arguments] { return run_simulate(*arguments); };
 }
 

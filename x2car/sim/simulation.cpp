@@ -17,6 +17,8 @@ namespace {
 constexpr std::uint64_t kMountingStream = 101;
 constexpr std::uint64_t kInsNoiseStream = 201;
 constexpr std::uint64_t kMotionStream = 301;
+constexpr std::uint64_t kWorldStream = 401;
+constexpr std::uint64_t kLidarNoiseStream = 501;
 
 constexpr const char* kTrajectoryFile = "trajectory.csv";
 
@@ -41,7 +43,7 @@ io::TrajectoryRow trajectory_row(const VehicleState& state) {
 
 }  // namespace
 
-std::vector<std::string> simulated_sensor_names() { return {"ins"}; }
+std::vector<std::string> simulated_sensor_names() { return {"ins", "lidar"}; }
 
 void SimulationOptions::Check() const {
   if (!(duration_s > 0.0) || !std::isfinite(duration_s)) {
@@ -59,6 +61,8 @@ void SimulationOptions::Check() const {
   route.Check();
   motion.Check();
   ins.Check();
+  world.Check();
+  lidar.Check();
 }
 
 io::SensorMounting draw_mounting(const std::string& sensor, Random& random) {
@@ -105,6 +109,15 @@ Simulation simulate(const SimulationOptions& options) {
         simulate_ins(simulation.states, truth.vehicle_from_sensor.at("ins").vehicle_from_sensor(),
                      options.ins, Random::derive_seed(options.seed, kInsNoiseStream));
   }
+  if (truth.vehicle_from_sensor.contains("lidar")) {
+    WorldOptions world = options.world;
+    world.road.highway_lanes = options.route.plan.highway.lanes;  // the lanes the route changes
+    world.road.lane_width_m = options.route.plan.highway.lane_width_m;
+    simulation.world = generate_world(route, options.scenario, simulation.states, world,
+                                      Random::derive_seed(options.seed, kWorldStream));
+    simulation.lidar = LidarOutput{options.lidar, options.lidar_format,
+                                   Random::derive_seed(options.seed, kLidarNoiseStream)};
+  }
   return simulation;
 }
 
@@ -125,6 +138,11 @@ void write_simulation(const Simulation& simulation, const std::filesystem::path&
     io::write_novatel_enu(out_dir / "ins" / "novatel_enu.csv", simulation.ins,
                           simulation.start_unix_time);
     io::write_ins_csv(out_dir / "ins" / "ins.csv", simulation.ins);
+  }
+  if (simulation.lidar) {
+    write_simulated_lidar(simulation.world, simulation.states,
+                          simulation.truth.vehicle_from_sensor.at("lidar").vehicle_from_sensor(),
+                          *simulation.lidar, out_dir / "lidar");
   }
 }
 

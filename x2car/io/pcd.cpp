@@ -1,0 +1,560 @@
+#include "x2car/io/pcd.hpp"
+
+#include <fmt/format.h>
+#include <liblzf/lzf.h>
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <optional>
+#include <vector>
+
+#include "x2car/core/error.hpp"
+#include "x2car/io/text_lines.hpp"
+
+namespace x2car::io {
+namespace {
+
+// ---- writing -------------------------------------------------------------------------------
+
+constexpr std::size_t kPointBytes = 4 * 4 + 2 + 4;  // x y z intensity ring t, packed
+
+std::string pcd_header(std::size_t points, std::string_view data) {
+  return fmt::format(
+      "# .PCD v0.7 - Point Cloud Data file format\n"
+      "VERSION 0.7\n"
+      "FIELDS x y z intensity ring t\n"
+      "SIZE 4 4 4 4 2 4\n"
+      "TYPE F F F F U F\n"
+      "COUNT 1 1 1 1 1 1\n"
+      "WIDTH {0}\n"
+      "HEIGHT 1\n"
+      "VIEWPOINT 0 0 0 1 0 0 0\n"
+      "POINTS {0}\n"
+      "DATA {1}\n",
+      points, data);
+}
+
+template <typename T>
+char* put(char* out, T value) {
+  std::memcpy(out, &value, sizeof(T));
+  return out + sizeof(T);
+}
+
+void append_binary(const PointCloud& cloud, std::string& bytes) {
+  const std::size_t start = bytes.size();
+  bytes.resize(start + cloud.points.size() * kPointBytes);
+  char* out = bytes.data() + start;
+  for (const LidarPoint& p : cloud.points) {
+    out = put(out, p.x);
+    out = put(out, p.y);
+    out = put(out, p.z);
+    out = put(out, p.intensity);
+    out = put(out, p.ring);
+    out = put(out, p.t);
+  }
+}
+
+void append_ascii(const PointCloud& cloud, std::string& bytes) {
+  auto out = std::back_inserter(bytes);
+  for (const LidarPoint& p : cloud.points) {
+    fmt::format_to(out, "{} {} {} {} {} {}\n", p.x, p.y, p.z, p.intensity, p.ring, p.t);
+  }
+}
+
+// binary_compressed: the fields one after the other (all x, then all y, ...), LZF-compressed,
+// after two uint32: compressed and uncompressed size [bytes].
+void append_compressed(const PointCloud& cloud, std::string& bytes) {
+  const std::size_t n = cloud.points.size();
+  std::string fields(n * kPointBytes, '\0');
+  char* out = fields.data();
+  for (const LidarPoint& p : cloud.points) out = put(out, p.x);
+  for (const LidarPoint& p : cloud.points) out = put(out, p.y);
+  for (const LidarPoint& p : cloud.points) out = put(out, p.z);
+  for (const LidarPoint& p : cloud.points) out = put(out, p.intensity);
+  for (const LidarPoint& p : cloud.points) out = put(out, p.ring);
+  for (const LidarPoint& p : cloud.points) out = put(out, p.t);
+  if (fields.size() > std::numeric_limits<std::uint32_t>::max() / 2) {
+    throw std::length_error("pcd: too many points for binary_compressed");
+  }
+  // LZF never grows its input by more than 1/16 plus a few bytes.
+  std::string compressed(fields.size() + fields.size() / 16 + 64, '\0');
+  const auto compressed_size =
+      fields.empty() ? 0u
+                     : lzf_compress(fields.data(), static_cast<unsigned>(fields.size()),
+                                    compressed.data(), static_cast<unsigned>(compressed.size()));
+  if (compressed_size == 0 && !fields.empty())
+    throw std::runtime_error("pcd: LZF compression failed");
+  std::array<char, 8> sizes{};
+  put(put(sizes.data(), static_cast<std::uint32_t>(compressed_size)),
+      static_cast<std::uint32_t>(fields.size()));
+  bytes.append(sizes.data(), sizes.size());
+  bytes.append(compressed.data(), compressed_size);
+}
+
+// ---- reading: header -----------------------------------------------------------------------
+
+enum class DataKind { kAscii, kBinary, kBinaryCompressed };
+
+struct PcdField {
+  std::string name;
+  std::size_t size = 4;    // bytes of one value
+  char type = 'F';         // F, U or I
+  std::size_t count = 1;   // values per point
+  std::size_t offset = 0;  // in a binary point record [bytes]
+  std::size_t column = 0;  // first token of the field on an ascii line
+};
+
+struct PcdHeader {
+  std::vector<PcdField> fields;
+  std::size_t width = 0, height = 1, points = 0;
+  DataKind data = DataKind::kBinary;
+  std::size_t point_bytes = 0, tokens = 0;
+  std::size_t data_offset = 0;  // first byte after the DATA line
+  std::size_t data_line = 0;    // line number of the DATA line
+  // Header lines of the keywords, for errors (0 = absent).
+  std::size_t fields_line = 0, size_line = 0, type_line = 0, count_line = 0, width_line = 0,
+              points_line = 0;
+};
+
+class HeaderParser {
+ public:
+  HeaderParser(std::string_view bytes, const std::string& file) : bytes_(bytes), file_(file) {}
+
+  PcdHeader parse() {
+    std::optional<std::size_t> size_count, type_count;
+    std::vector<std::size_t> counts;
+    std::optional<std::size_t> points;
+    std::size_t pos = 0;
+    while (pos < bytes_.size()) {
+      const std::size_t end = std::min(bytes_.find('\n', pos), bytes_.size());
+      const std::string_view line = trim(bytes_.substr(pos, end - pos));
+      pos = end + 1;
+      ++line_;
+      if (line.empty() || line.front() == '#') continue;
+      std::vector<std::string_view> words = split_fields(line);
+      const std::string_view key = words.front();
+      words.erase(words.begin());
+      if (key == "VERSION" || key == "VIEWPOINT") continue;
+      if (key == "FIELDS" || key == "COLUMNS") {
+        header_.fields_line = line_;
+        for (const auto word : words) header_.fields.push_back({std::string(word)});
+      } else if (key == "SIZE") {
+        require_fields("SIZE");
+        header_.size_line = line_;
+        size_count = words.size();
+        for (std::size_t i = 0; i < words.size() && i < header_.fields.size(); ++i)
+          header_.fields[i].size = number(words[i], "SIZE");
+      } else if (key == "TYPE") {
+        require_fields("TYPE");
+        header_.type_line = line_;
+        type_count = words.size();
+        for (std::size_t i = 0; i < words.size() && i < header_.fields.size(); ++i) {
+          if (words[i].size() != 1) fail("TYPE", "type '{}' is not one letter", words[i]);
+          header_.fields[i].type = words[i].front();
+        }
+      } else if (key == "COUNT") {
+        require_fields("COUNT");
+        header_.count_line = line_;
+        for (const auto word : words) counts.push_back(number(word, "COUNT"));
+      } else if (key == "WIDTH") {
+        header_.width_line = line_;
+        header_.width = single_number(words, "WIDTH");
+      } else if (key == "HEIGHT") {
+        header_.height = single_number(words, "HEIGHT");
+      } else if (key == "POINTS") {
+        header_.points_line = line_;
+        points = single_number(words, "POINTS");
+      } else if (key == "DATA") {
+        header_.data_line = line_;
+        header_.data_offset = std::min(pos, bytes_.size());
+        header_.data = data_kind(words);
+        check(size_count, type_count, counts, points);
+        return header_;
+      } else {
+        fail("", "unknown header keyword '{}'", key);
+      }
+    }
+    throw InputError(file_, "the header has no DATA line (the file is empty or truncated)");
+  }
+
+ private:
+  template <typename... Args>
+  [[noreturn]] void fail_at(std::size_t line, std::string field, fmt::format_string<Args...> text,
+                            Args&&... args) const {
+    throw InputError(file_, line, std::move(field), fmt::format(text, std::forward<Args>(args)...));
+  }
+  template <typename... Args>
+  [[noreturn]] void fail(std::string field, fmt::format_string<Args...> text,
+                         Args&&... args) const {
+    fail_at(line_, std::move(field), text, std::forward<Args>(args)...);
+  }
+
+  void require_fields(const char* key) const {
+    if (header_.fields_line == 0) fail(key, "{} comes before FIELDS", key);
+  }
+
+  std::size_t number(std::string_view word, const char* key) const {
+    std::size_t value = 0;
+    const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), value);
+    if (error != std::errc() || end != word.data() + word.size()) {
+      fail(key, "'{}' is not a non-negative integer", word);
+    }
+    return value;
+  }
+
+  std::size_t single_number(const std::vector<std::string_view>& words, const char* key) const {
+    if (words.size() != 1) fail(key, "expected one number, found {}", words.size());
+    return number(words.front(), key);
+  }
+
+  DataKind data_kind(const std::vector<std::string_view>& words) const {
+    if (words.size() == 1 && words.front() == "ascii") return DataKind::kAscii;
+    if (words.size() == 1 && words.front() == "binary") return DataKind::kBinary;
+    if (words.size() == 1 && words.front() == "binary_compressed")
+      return DataKind::kBinaryCompressed;
+    fail("DATA", "expected ascii, binary or binary_compressed");
+  }
+
+  void check(std::optional<std::size_t> size_count, std::optional<std::size_t> type_count,
+             const std::vector<std::size_t>& counts, std::optional<std::size_t> points) {
+    auto& fields = header_.fields;
+    if (header_.fields_line == 0)
+      fail_at(header_.data_line, "FIELDS", "no FIELDS line before DATA");
+    if (!size_count || *size_count != fields.size()) {
+      fail_at(header_.size_line, "SIZE", "{} sizes for {} fields", size_count.value_or(0),
+              fields.size());
+    }
+    if (!type_count || *type_count != fields.size()) {
+      fail_at(header_.type_line, "TYPE", "{} types for {} fields", type_count.value_or(0),
+              fields.size());
+    }
+    if (header_.count_line != 0 && counts.size() != fields.size()) {
+      fail_at(header_.count_line, "COUNT", "{} counts for {} fields", counts.size(), fields.size());
+    }
+    for (std::size_t i = 0; i < fields.size(); ++i) {
+      PcdField& field = fields[i];
+      if (!counts.empty()) field.count = counts[i];
+      check_type(field);
+      if (field.count == 0)
+        fail_at(header_.count_line, "COUNT", "field '{}' has COUNT 0", field.name);
+      field.offset = header_.point_bytes;
+      field.column = header_.tokens;
+      header_.point_bytes += field.size * field.count;
+      header_.tokens += field.count;
+    }
+    if (header_.width_line == 0) fail_at(header_.data_line, "WIDTH", "no WIDTH line before DATA");
+    header_.points = header_.width * header_.height;
+    if (points && *points != header_.points) {
+      fail_at(header_.points_line, "POINTS", "POINTS {} but WIDTH x HEIGHT = {} x {}", *points,
+              header_.width, header_.height);
+    }
+  }
+
+  void check_type(const PcdField& field) const {
+    const std::size_t s = field.size;
+    const bool valid_size = s == 1 || s == 2 || s == 4 || s == 8;
+    if (field.type != 'F' && field.type != 'U' && field.type != 'I') {
+      fail_at(header_.type_line, "TYPE", "unknown type '{}' of field '{}' (expected F, U or I)",
+              field.type, field.name);
+    }
+    if (!valid_size || (field.type == 'F' && s != 4 && s != 8)) {
+      fail_at(header_.size_line, "SIZE", "size {} is not valid for type {} of field '{}'", s,
+              field.type, field.name);
+    }
+  }
+
+  std::string_view bytes_;
+  const std::string& file_;
+  std::size_t line_ = 0;
+  PcdHeader header_;
+};
+
+// ---- reading: data -------------------------------------------------------------------------
+
+template <typename T>
+double load(const char* in) {
+  T value;
+  std::memcpy(&value, in, sizeof(T));
+  return static_cast<double>(value);
+}
+
+// Reads one value of a binary field.
+double load_value(const char* in, const PcdField& field) {
+  switch (field.type) {
+    case 'F':
+      return field.size == 4 ? load<float>(in) : load<double>(in);
+    case 'U':
+      switch (field.size) {
+        case 1:
+          return load<std::uint8_t>(in);
+        case 2:
+          return load<std::uint16_t>(in);
+        case 4:
+          return load<std::uint32_t>(in);
+        default:
+          return load<std::uint64_t>(in);
+      }
+    default:
+      switch (field.size) {
+        case 1:
+          return load<std::int8_t>(in);
+        case 2:
+          return load<std::int16_t>(in);
+        case 4:
+          return load<std::int32_t>(in);
+        default:
+          return load<std::int64_t>(in);
+      }
+  }
+}
+
+// The fields the reader uses, as indices into PcdHeader::fields.
+struct UsedFields {
+  std::array<std::size_t, 3> xyz{};
+  std::optional<std::size_t> intensity, ring, time;
+};
+
+UsedFields used_fields(const PcdHeader& header, const std::string& file) {
+  auto find = [&](std::initializer_list<std::string_view> names) -> std::optional<std::size_t> {
+    for (std::size_t i = 0; i < header.fields.size(); ++i) {
+      for (const auto name : names) {
+        if (header.fields[i].name == name) return i;
+      }
+    }
+    return std::nullopt;
+  };
+  UsedFields used;
+  const std::array<std::string_view, 3> axes = {"x", "y", "z"};
+  for (std::size_t a = 0; a < 3; ++a) {
+    const auto index = find({axes[a]});
+    if (!index) {
+      throw InputError(file, header.fields_line, "FIELDS", fmt::format("no field '{}'", axes[a]));
+    }
+    used.xyz[a] = *index;
+  }
+  used.intensity = find({"intensity", "i"});
+  used.ring = find({"ring"});
+  used.time = find({"t", "time", "timestamp"});
+  for (const auto index : {std::optional(used.xyz[0]), std::optional(used.xyz[1]),
+                           std::optional(used.xyz[2]), used.intensity, used.ring, used.time}) {
+    if (index && header.fields[*index].count != 1) {
+      throw InputError(file, header.count_line, "COUNT",
+                       fmt::format("field '{}' has COUNT {}; x2car reads COUNT 1 only",
+                                   header.fields[*index].name, header.fields[*index].count));
+    }
+  }
+  return used;
+}
+
+// Raw values of the used fields, one row per point, before conversion to LidarPoint.
+struct RawColumns {
+  std::vector<double> x, y, z, intensity, ring, time;
+};
+
+class DataReader {
+ public:
+  DataReader(std::string_view bytes, const PcdHeader& header, const UsedFields& used,
+             const std::string& file)
+      : bytes_(bytes), header_(header), used_(used), file_(file) {}
+
+  RawColumns read() {
+    const std::size_t n = header_.points;
+    for (auto* column : {&raw_.x, &raw_.y, &raw_.z}) column->resize(n);
+    if (used_.intensity) raw_.intensity.resize(n);
+    if (used_.ring) raw_.ring.resize(n);
+    if (used_.time) raw_.time.resize(n);
+    switch (header_.data) {
+      case DataKind::kAscii:
+        read_ascii();
+        break;
+      case DataKind::kBinary:
+        read_binary();
+        break;
+      case DataKind::kBinaryCompressed:
+        read_compressed();
+        break;
+    }
+    return std::move(raw_);
+  }
+
+ private:
+  // Calls store(column, field) for every used field.
+  template <typename Store>
+  void for_used(Store store) {
+    for (std::size_t a = 0; a < 3; ++a)
+      store(a == 0 ? raw_.x : a == 1 ? raw_.y : raw_.z, used_.xyz[a]);
+    if (used_.intensity) store(raw_.intensity, *used_.intensity);
+    if (used_.ring) store(raw_.ring, *used_.ring);
+    if (used_.time) store(raw_.time, *used_.time);
+  }
+
+  [[noreturn]] void truncated(std::size_t available_bytes, std::size_t needed_bytes) const {
+    throw InputError(
+        file_, header_.data_line, "DATA",
+        fmt::format("the data is truncated: {} bytes for POINTS {} need {} ({} "
+                    "complete points)",
+                    available_bytes, header_.points, needed_bytes,
+                    header_.point_bytes == 0 ? 0 : available_bytes / header_.point_bytes));
+  }
+
+  void read_binary() {
+    const std::string_view data = bytes_.substr(header_.data_offset);
+    const std::size_t needed = header_.points * header_.point_bytes;
+    if (data.size() < needed) truncated(data.size(), needed);
+    for_used([&](std::vector<double>& column, std::size_t f) {
+      const PcdField& field = header_.fields[f];
+      for (std::size_t i = 0; i < header_.points; ++i) {
+        column[i] = load_value(data.data() + i * header_.point_bytes + field.offset, field);
+      }
+    });
+  }
+
+  void read_compressed() {
+    const std::string_view data = bytes_.substr(header_.data_offset);
+    const std::size_t needed = header_.points * header_.point_bytes;
+    if (data.size() < 8) truncated(data.size(), 8);
+    std::uint32_t compressed_size = 0, uncompressed_size = 0;
+    std::memcpy(&compressed_size, data.data(), 4);
+    std::memcpy(&uncompressed_size, data.data() + 4, 4);
+    if (uncompressed_size != needed) {
+      throw InputError(file_, header_.data_line, "DATA",
+                       fmt::format("binary_compressed data unpacks to {} bytes; POINTS {} need {}",
+                                   uncompressed_size, header_.points, needed));
+    }
+    if (data.size() - 8 < compressed_size) truncated(data.size() - 8, compressed_size);
+    std::vector<char> fields(needed);
+    if (needed > 0 && lzf_decompress(data.data() + 8, compressed_size, fields.data(),
+                                     static_cast<unsigned>(needed)) != needed) {
+      throw InputError(file_, header_.data_line, "DATA", "binary_compressed data is corrupt");
+    }
+    for_used([&](std::vector<double>& column, std::size_t f) {
+      const PcdField& field = header_.fields[f];
+      const char* block = fields.data() + header_.points * field.offset;  // all values of f
+      for (std::size_t i = 0; i < header_.points; ++i)
+        column[i] = load_value(block + i * field.size, field);
+    });
+  }
+
+  void read_ascii() {
+    const std::string_view data = bytes_.substr(header_.data_offset);
+    std::size_t pos = 0, line = header_.data_line, point = 0;
+    std::vector<std::string_view> tokens;
+    while (point < header_.points && pos < data.size()) {
+      const std::size_t end = std::min(data.find('\n', pos), data.size());
+      const std::string_view text = trim(data.substr(pos, end - pos));
+      pos = end + 1;
+      ++line;
+      if (text.empty()) continue;
+      tokens = split_fields(text);
+      if (tokens.size() != header_.tokens) {
+        throw InputError(
+            file_, line, "",
+            fmt::format("{} values, the header's fields need {}", tokens.size(), header_.tokens));
+      }
+      for_used([&](std::vector<double>& column, std::size_t f) {
+        const PcdField& field = header_.fields[f];
+        column[point] =
+            parse_double(tokens[field.column], {file_, line, field.name}, NonFinite::kAllow);
+      });
+      ++point;
+    }
+    if (point < header_.points) {
+      throw InputError(
+          file_, line, "",
+          fmt::format("the ascii data ends after {} of {} points", point, header_.points));
+    }
+  }
+
+  std::string_view bytes_;
+  const PcdHeader& header_;
+  const UsedFields& used_;
+  const std::string& file_;
+  RawColumns raw_;
+};
+
+constexpr double kAbsoluteTime = 1e4;  // [s] times at least this large are absolute stamps
+
+PointCloud to_cloud(const RawColumns& raw, const PcdHeader& header, const UsedFields& used,
+                    const std::string& file) {
+  PointCloud cloud;
+  cloud.has_intensity = used.intensity.has_value();
+  cloud.has_ring = used.ring.has_value();
+  cloud.has_time = used.time.has_value();
+  const std::size_t n = header.points;
+  cloud.points.resize(n);
+  double time_scale = 1.0;  // to seconds
+  if (used.time && header.fields[*used.time].type != 'F') time_scale = 1e-9;
+  if (used.time) {
+    double smallest = std::numeric_limits<double>::infinity();
+    bool absolute = false;
+    for (const double time : raw.time) {
+      if (!std::isfinite(time)) continue;
+      smallest = std::min(smallest, time * time_scale);
+      absolute = absolute || std::abs(time * time_scale) >= kAbsoluteTime;
+    }
+    if (absolute) cloud.time_base = smallest;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    LidarPoint& p = cloud.points[i];
+    p.x = static_cast<float>(raw.x[i]);
+    p.y = static_cast<float>(raw.y[i]);
+    p.z = static_cast<float>(raw.z[i]);
+    if (used.intensity) p.intensity = static_cast<float>(raw.intensity[i]);
+    if (used.time) p.t = static_cast<float>(raw.time[i] * time_scale - cloud.time_base);
+    if (used.ring) {
+      const double ring = raw.ring[i];
+      if (!(ring >= 0.0 && ring <= 65535.0 && ring == std::floor(ring))) {
+        throw InputError(file, header.data_line, "ring",
+                         fmt::format("point {}: ring {} is not an integer in [0, 65535]", i, ring));
+      }
+      p.ring = static_cast<std::uint16_t>(ring);
+    }
+  }
+  return cloud;
+}
+
+}  // namespace
+
+std::string format_pcd(const PointCloud& cloud, PcdEncoding encoding) {
+  const std::size_t n = cloud.points.size();
+  switch (encoding) {
+    case PcdEncoding::kAscii: {
+      std::string bytes = pcd_header(n, "ascii");
+      append_ascii(cloud, bytes);
+      return bytes;
+    }
+    case PcdEncoding::kBinary: {
+      std::string bytes = pcd_header(n, "binary");
+      append_binary(cloud, bytes);
+      return bytes;
+    }
+    case PcdEncoding::kBinaryCompressed: {
+      std::string bytes = pcd_header(n, "binary_compressed");
+      append_compressed(cloud, bytes);
+      return bytes;
+    }
+  }
+  throw std::invalid_argument("format_pcd: unknown encoding");
+}
+
+void write_pcd(const std::filesystem::path& path, const PointCloud& cloud, PcdEncoding encoding) {
+  write_text_file(path, format_pcd(cloud, encoding));
+}
+
+PointCloud read_pcd(const std::filesystem::path& path) {
+  return parse_pcd(read_text_file(path), path.string());
+}
+
+PointCloud parse_pcd(std::string_view bytes, const std::string& source_name) {
+  const PcdHeader header = HeaderParser(bytes, source_name).parse();
+  const UsedFields used = used_fields(header, source_name);
+  const RawColumns raw = DataReader(bytes, header, used, source_name).read();
+  return to_cloud(raw, header, used, source_name);
+}
+
+}  // namespace x2car::io

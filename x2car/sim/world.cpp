@@ -1,0 +1,170 @@
+#include "x2car/sim/world.hpp"
+
+#include <fmt/format.h>
+
+#include <array>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+#include "x2car/sim/world_builder.hpp"
+
+namespace x2car::sim {
+namespace {
+
+template <typename... Args>
+[[noreturn]] void reject(fmt::format_string<Args...> format, Args&&... args) {
+  throw std::invalid_argument(fmt::format(format, std::forward<Args>(args)...));
+}
+
+void check_range(const char* name, double min, double max) {
+  if (!(std::isfinite(min) && std::isfinite(max) && min >= 0.0 && min <= max)) {
+    reject("world options: {} needs 0 <= min <= max", name);
+  }
+}
+
+void check_non_negative(const char* name, double value) {
+  if (!(value >= 0.0 && std::isfinite(value))) reject("world options: {} must be >= 0", name);
+}
+
+void check_share(const char* name, double value) {
+  if (!(value >= 0.0 && value <= 1.0)) reject("world options: {} must be in [0, 1]", name);
+}
+
+}  // namespace
+
+std::string_view to_string(ObjectKind kind) {
+  static constexpr std::array<std::string_view, 14> kNames = {
+      "road",       "lane_marking",    "curb",     "sidewalk", "terrain",
+      "guard_rail", "guard_rail_post", "building", "pole",     "traffic_sign",
+      "tree",       "parked_car",      "car",      "cyclist"};
+  return kNames.at(static_cast<std::size_t>(kind));
+}
+
+// Reflectivities at 905 nm from published LiDAR reflectance surveys (asphalt 0.05-0.2, white paint
+// 0.5-0.7, concrete 0.3-0.4, vegetation 0.4-0.6 in the near infrared, retro-reflective sheeting
+// several times a white Lambertian target); RCS at 77 GHz of the whole object.
+Material standard_material(Surface surface) {
+  switch (surface) {
+    case Surface::kAsphalt:
+      return {surface, 0x3a3a3c, 0.10, -20.0};
+    case Surface::kLanePaint:
+      return {surface, 0xf0f0f0, 0.60, -20.0};
+    case Surface::kConcrete:
+      return {surface, 0xa8a8a0, 0.35, -5.0};
+    case Surface::kPaving:
+      return {surface, 0x9c9488, 0.30, -20.0};
+    case Surface::kGrass:
+      return {surface, 0x4f7a32, 0.45, -20.0};
+    case Surface::kFacade:
+      return {surface, 0xc8b89a, 0.40, 20.0};
+    case Surface::kMetal:
+      return {surface, 0x8a8d91, 0.30, 5.0};
+    case Surface::kSignFace:
+      return {surface, 0xd02020, 3.00, 10.0};
+    case Surface::kBark:
+      return {surface, 0x5a4030, 0.30, -5.0};
+    case Surface::kFoliage:
+      return {surface, 0x3c6e28, 0.50, -5.0};
+    case Surface::kCarPaint:
+      return {surface, 0x2050a0, 0.30, 10.0};
+    case Surface::kGlass:
+      return {surface, 0x202830, 0.05, 10.0};
+    case Surface::kTyre:
+      return {surface, 0x141414, 0.05, 0.0};
+    case Surface::kClothing:
+      return {surface, 0x404060, 0.35, 0.0};
+  }
+  throw std::invalid_argument("standard_material: unknown surface");
+}
+
+void RoadsideOptions::Check() const {
+  check_range("building length [m]", building_min_length_m, building_max_length_m);
+  check_range("building depth [m]", building_min_depth_m, building_max_depth_m);
+  check_range("building height [m]", building_min_height_m, building_max_height_m);
+  if (!(building_min_length_m > 0.0 && building_min_depth_m > 0.0 && building_min_height_m > 0.0)) {
+    reject("world options: building sizes must be > 0");
+  }
+  if (!(building_max_setback_m >= 0.5))
+    reject("world options: building_max_setback_m must be >= 0.5");
+  check_non_negative("building_max_gap_m", building_max_gap_m);
+  check_share("building_frontage", building_frontage);
+  check_non_negative("intersection_gap_m", intersection_gap_m);
+  check_non_negative("pole_spacing_m", pole_spacing_m);
+  check_non_negative("sign_spacing_m", sign_spacing_m);
+  check_non_negative("tree_spacing_m", tree_spacing_m);
+  check_non_negative("parked_car_spacing_m", parked_car_spacing_m);
+  if (parked_car_spacing_m > 0.0 && parked_car_spacing_m < 5.5) {
+    reject("world options: parked_car_spacing_m must be 0 or >= 5.5 (a car is up to 5 m long)");
+  }
+  check_share("parked_car_share", parked_car_share);
+  check_non_negative("guard_rail_post_spacing_m", guard_rail_post_spacing_m);
+  check_non_negative("terrain_half_width_m", terrain_half_width_m);
+  if (!(terrain_cell_m >= 0.5 && terrain_cell_m <= 20.0)) {
+    reject("world options: terrain_cell_m must be in [0.5, 20]");
+  }
+}
+
+void TrafficOptions::Check() const {
+  check_non_negative("oncoming_cars_per_km", oncoming_cars_per_km);
+  check_non_negative("cyclists_per_km", cyclists_per_km);
+  check_non_negative("highway_cars_per_km_lane", highway_cars_per_km_lane);
+  check_range("urban car speed [m/s]", urban_min_speed_mps, urban_max_speed_mps);
+  check_range("highway car speed [m/s]", highway_min_speed_mps, highway_max_speed_mps);
+  check_range("cyclist speed [m/s]", cyclist_min_speed_mps, cyclist_max_speed_mps);
+  check_non_negative("ego_clearance_m", ego_clearance_m);
+}
+
+void WorldOptions::Check() const {
+  road.Check();
+  roadside.Check();
+  traffic.Check();
+}
+
+bool World::mover_present(const MovingObject& mover, double time) const {
+  const double s = mover.s_at_zero + mover.speed * time;
+  return s >= mover.s_min && s <= mover.s_max;
+}
+
+Eigen::Isometry3d World::mover_pose(const MovingObject& mover, double time) const {
+  const RoadStation station = road.station_at(mover.s_at_zero + mover.speed * time);
+  Eigen::Matrix3d rotation = station.surface_rotation();
+  if (mover.speed < 0.0) {  // facing against s: turn half way round about the surface normal
+    rotation.col(0) = -rotation.col(0);
+    rotation.col(1) = -rotation.col(1);
+  }
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = rotation;
+  pose.translation() = station.surface_point(mover.lateral);
+  return pose;
+}
+
+Eigen::Vector3d World::mover_velocity(const MovingObject& mover, double time) const {
+  if (!mover_present(mover, time)) return Eigen::Vector3d::Zero();
+  constexpr double kStep = 0.05;  // [s] central difference; positions are linear between stations
+  return (mover_pose(mover, time + kStep).translation() -
+          mover_pose(mover, time - kStep).translation()) /
+         (2.0 * kStep);
+}
+
+ObjectKind World::kind_of(std::uint32_t id) const {
+  if (id < objects.size()) return objects[id].kind;
+  return movers.at(id - objects.size()).kind;
+}
+
+World generate_world(const Route& route, Scenario scenario, std::span<const VehicleState> ego,
+                     const WorldOptions& options, std::uint64_t seed) {
+  options.Check();
+  constexpr std::uint64_t kLaneStream = 1;
+  constexpr std::uint64_t kObjectStream = 2;
+  World world;
+  Random lane_random(Random::derive_seed(seed, kLaneStream));
+  world.road = build_road_layout(route, scenario, options.road, lane_random);
+  detail::WorldBuilder builder(world, options, Random::derive_seed(seed, kObjectStream));
+  detail::add_road_surfaces(builder, route);
+  detail::add_roadside(builder, route);
+  detail::add_traffic(builder, ego);
+  return world;
+}
+
+}  // namespace x2car::sim

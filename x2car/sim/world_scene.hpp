@@ -1,0 +1,101 @@
+// The world as Embree 3 scenes, for ray casting (the LiDAR; later the camera).
+//
+// The static world is one triangle mesh in one scene, built once. Moving objects are placed per
+// query time in a small scene of their own (MoverScene): the LiDAR builds one per sweep, with
+// every mover near the sensor at its pose at the sweep's middle, and traces each ray against both
+// scenes. A mover thus stands still during a sweep: at 50 km/h it moves 0.7 m in 0.05 s, so its
+// points are off by up to that much at the sweep's ends; the static world, which is what
+// calibration uses, is exact. Each hit carries the id of the object or mover hit and the LiDAR
+// reflectivity of the part hit.
+//
+// Scene coordinates are float, relative to an origin at the centre of the road's bounding box, so
+// that a 20 km drive keeps about 1 mm.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <span>
+
+#include "x2car/sim/world.hpp"
+#include "x2car/sim/world_mesh.hpp"
+
+struct RTCDeviceTy;
+struct RTCSceneTy;
+
+namespace x2car::sim {
+
+namespace detail {
+struct EmbreeDeviceRelease {
+  void operator()(RTCDeviceTy* device) const;
+};
+struct EmbreeSceneRelease {
+  void operator()(RTCSceneTy* scene) const;
+};
+}  // namespace detail
+
+using EmbreeDevice = std::unique_ptr<RTCDeviceTy, detail::EmbreeDeviceRelease>;
+using EmbreeScene = std::unique_ptr<RTCSceneTy, detail::EmbreeSceneRelease>;
+
+constexpr std::uint32_t kNoObject = std::numeric_limits<std::uint32_t>::max();
+
+struct RayHit {
+  float range = std::numeric_limits<float>::infinity();  // along the unit direction [m]
+  std::uint32_t object_id = kNoObject;                   // object or mover hit
+  float reflectivity = 0.0f;                             // LiDAR reflectivity of the part hit
+  float cos_incidence = 0.0f;  // |cos| of the angle between the ray and the surface normal
+};
+
+// One triangle mesh committed to an Embree scene, with its per-triangle tables.
+class TriangleScene {
+ public:
+  TriangleScene(RTCDeviceTy* device, TriangleMesh mesh);  // an empty mesh gives no scene
+
+  RTCSceneTy* scene() const { return scene_.get(); }
+  std::size_t triangle_count() const { return object_.size(); }
+  std::uint32_t object(std::uint32_t triangle) const { return object_[triangle]; }
+  float reflectivity(std::uint32_t triangle) const { return reflectivity_[triangle]; }
+
+ private:
+  EmbreeScene scene_;
+  std::vector<std::uint32_t> object_;
+  std::vector<float> reflectivity_;
+};
+
+// Movers at one time (WorldScene::movers_at).
+class MoverScene {
+ public:
+  MoverScene(RTCDeviceTy* device, TriangleMesh mesh) : triangles_(device, std::move(mesh)) {}
+  const TriangleScene& triangles() const { return triangles_; }
+
+ private:
+  TriangleScene triangles_;
+};
+
+class WorldScene {
+ public:
+  // Meshes and commits the static world. Throws std::runtime_error when Embree fails.
+  explicit WorldScene(const World& world);
+
+  const World& world() const { return world_; }
+  const Eigen::Vector3d& origin() const { return origin_; }  // ENU [m]
+  std::size_t triangle_count() const { return static_->triangle_count(); }
+
+  // The movers present at `time` [s] within `radius_m` [m] of `centre_world` (ENU), placed at
+  // their pose then. Thread-safe.
+  MoverScene movers_at(double time, const Eigen::Vector3d& centre_world, double radius_m) const;
+
+  // Casts rays from one point (ENU) along unit directions (ENU) up to `max_range` [m] against the
+  // static world and, when given, the movers; hits[i] answers directions[i]. Thread-safe.
+  void trace(const Eigen::Vector3d& from_world, std::span<const Eigen::Vector3f> directions,
+             float max_range, const MoverScene* movers, std::span<RayHit> hits) const;
+
+ private:
+  const World& world_;
+  Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
+  EmbreeDevice device_;
+  std::unique_ptr<TriangleScene> static_;
+};
+
+}  // namespace x2car::sim
