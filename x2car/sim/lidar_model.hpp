@@ -78,6 +78,8 @@ class LidarSimulator {
   LidarSimulator(const WorldScene& scene, const VehicleStates& states,
                  const Eigen::Isometry3d& vehicle_from_lidar, const LidarOptions& options,
                  std::uint64_t seed);
+  LidarSimulator(const WorldScene&, VehicleStates&&, const Eigen::Isometry3d&, const LidarOptions&,
+                 std::uint64_t) = delete;  // the states must outlive it
 
   // Whole sweeps within the states' time span.
   std::size_t sweep_count() const { return sweep_count_; }

@@ -93,7 +93,7 @@ double height_above_road(const Route& route, const Eigen::Vector3d& point, doubl
   s_high = std::min(s_high, route.length());
   double s = std::clamp(s_guess, s_low, s_high);
   RoutePoint p = route.at(s);
-  for (int iteration = 0; iteration < 10; ++iteration) {
+  for (int iteration = 0; iteration < 5; ++iteration) {
     const Eigen::Vector2d tangent(std::cos(p.heading_enu), std::sin(p.heading_enu));
     const Eigen::Vector2d offset = point.head<2>() - Eigen::Vector2d(p.x, p.y);
     const double lateral = offset.dot(Eigen::Vector2d(-tangent.y(), tangent.x()));
@@ -181,7 +181,8 @@ TEST(LidarModel, PointsFollowTheBeamTableAndTheSweepTime) {
   const WorldScene scene(world);
   LidarOptions options = test_options(2.0);
   options.range_noise_m = 0.0;
-  const LidarSimulator lidar(scene, straight_states(100.0, 0.0, 0.2), mounting(1.9), options, 3);
+  const VehicleStates states = straight_states(100.0, 0.0, 0.2);
+  const LidarSimulator lidar(scene, states, mounting(1.9), options, 3);
   const LidarSweep sweep = lidar.sweep(0);
   const auto table = lidar_beam_table(64);
   const double column_period = 0.1 / options.columns();
@@ -212,8 +213,8 @@ TEST(LidarModel, PitchedDownLidarSeesTheGroundNormalTiltedTowardsMinusX) {
   const World world = flat_world(route);
   const WorldScene scene(world);
   const EulerAngles angles{rad_from_deg(-2.0), rad_from_deg(3.0), rad_from_deg(4.0)};
-  const LidarSimulator lidar(scene, straight_states(100.0, 0.0, 0.2), mounting(1.7, angles),
-                             test_options(), 5);
+  const VehicleStates states = straight_states(100.0, 0.0, 0.2);
+  const LidarSimulator lidar(scene, states, mounting(1.7, angles), test_options(), 5);
   std::vector<Eigen::Vector3d> points;
   for (const io::LidarPoint& p : lidar.sweep(0).cloud.points) points.push_back(position(p));
   const auto [normal, offset] = fit_plane(points);
@@ -296,9 +297,11 @@ TEST(LidarModel, RoadPointsLieOnTheRoadSurfaceOfAGradedCamberedDrive) {
       }
     }
     ASSERT_GT(road_points, 5000u);
-    // Range noise moves a point along its beam: at most `noise` vertically.
-    EXPECT_LT(largest, noise == 0.0 ? 0.01 : 5.0 * noise) << "noise " << noise;
-    EXPECT_LT(std::sqrt(sum_squares / road_points), noise == 0.0 ? 0.003 : noise) << noise;
+    // Without noise only the mesh and float rounding remain (< 1 mm measured). Range noise moves a
+    // point along its beam, which points at most 25 deg down: vertically |noise| x sin(25 deg)
+    // at most, so 2.5 sigma bounds every point and sigma / 2 the rms.
+    EXPECT_LT(largest, noise == 0.0 ? 0.002 : 2.5 * noise) << "noise " << noise;
+    EXPECT_LT(std::sqrt(sum_squares / road_points), noise == 0.0 ? 5e-4 : 0.5 * noise) << noise;
   }
 }
 

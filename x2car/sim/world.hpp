@@ -90,9 +90,12 @@ struct WorldObject {
   std::uint32_t id = 0;  // its index in World::objects
   ObjectKind kind = ObjectKind::kBuilding;
   // Object frame: origin at the centre of its footprint on the ground, x along its length (a car's
-  // forward), z up. For strips: the road's frame at the strip's middle.
+  // forward; a sign's x is the way its plate faces), z up (parked cars: the road's normal). For
+  // strips: the road's frame at the strip's middle, on the strip.
   Eigen::Isometry3d world_from_object = Eigen::Isometry3d::Identity();
-  Eigen::Vector3d size = Eigen::Vector3d::Zero();  // length (x), width (y), height (z) [m]
+  // Length (x), width (y), height (z) [m]. Trees: crown diameter, crown diameter, total height;
+  // signs: post, plate width, height of the plate's top; strips: length along s, width, height.
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();
   Material material;  // of its main surface (multi-part objects: world_mesh.hpp names the others)
   std::optional<RoadStrip> strip;  // road-following objects: their exact shape
 };

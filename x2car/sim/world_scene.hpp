@@ -77,6 +77,7 @@ class WorldScene {
  public:
   // Meshes and commits the static world. Throws std::runtime_error when Embree fails.
   explicit WorldScene(const World& world);
+  explicit WorldScene(World&&) = delete;  // the world must outlive the scene
 
   const World& world() const { return world_; }
   const Eigen::Vector3d& origin() const { return origin_; }  // ENU [m]
