@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
-#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
@@ -204,23 +203,10 @@ struct ParsedRow {
   GeodeticPosition geodetic;
 };
 
-int parse_status(std::string_view text, const FieldLocation& where) {
-  const double value = parse_double(text, where);
-  if (value != std::floor(value) || value < INT_MIN || value > INT_MAX) {
-    throw InputError(where.file, where.line, where.field,
-                     fmt::format("status must be an integer, found '{}'", text));
-  }
-  return static_cast<int>(value);
-}
-
 ParsedRow parse_row(const TextLine& line, const Layout& layout, const std::string& source) {
-  const std::vector<std::string_view> fields = split_fields(line.text);
-  if (fields.size() != layout.field_count) {
-    throw InputError(source, line.number, {},
-                     fmt::format("expected {} comma-separated fields as in the header (line {}), "
-                                 "found {}",
-                                 layout.field_count, layout.header_line, fields.size()));
-  }
+  const std::vector<std::string_view> fields =
+      split_exact_fields(line, layout.field_count, source,
+                         fmt::format(" as in the header (line {})", layout.header_line));
   const auto where = [&](Slot s) { return FieldLocation{source, line.number, layout[s]->name}; };
   const auto value = [&](Slot s) {
     return parse_double(fields[layout[s]->index], where(s)) * layout[s]->scale;
@@ -247,7 +233,7 @@ ParsedRow parse_row(const TextLine& line, const Layout& layout, const std::strin
   r.attitude = {value(Slot::kRoll), value(Slot::kPitch),
                 layout.yaw_is_azimuth ? heading_enu_from_azimuth(yaw) : yaw};
   if (layout[Slot::kStatus]) {
-    r.status = parse_status(fields[layout[Slot::kStatus]->index], where(Slot::kStatus));
+    r.status = parse_whole_number(fields[layout[Slot::kStatus]->index], where(Slot::kStatus));
   }
   return row;
 }

@@ -4,7 +4,6 @@
 
 #include <array>
 #include <charconv>
-#include <climits>
 #include <cmath>
 #include <stdexcept>
 
@@ -128,27 +127,13 @@ std::string format_row(const InsRecord& r, std::int64_t unix_time_ns) {
                      r.status);
 }
 
-int parse_status(std::string_view text, const FieldLocation& where) {
-  const double value = parse_double(text, where);
-  if (value != std::floor(value) || value < INT_MIN || value > INT_MAX) {
-    throw InputError(where.file, where.line, where.field,
-                     fmt::format("status must be an integer, found '{}'", text));
-  }
-  return static_cast<int>(value);
-}
-
 struct ParsedRow {
   std::int64_t unix_time_ns = 0;
   InsRecord record;  // time still unset
 };
 
 ParsedRow parse_row(const TextLine& line, const std::string& source) {
-  const std::vector<std::string_view> f = split_fields(line.text);
-  if (f.size() != kFields.size()) {
-    throw InputError(
-        source, line.number, {},
-        fmt::format("expected {} comma-separated fields, found {}", kFields.size(), f.size()));
-  }
+  const std::vector<std::string_view> f = split_exact_fields(line, kFields.size(), source);
   const auto where = [&](std::size_t i) { return FieldLocation{source, line.number, kFields[i]}; };
   const std::optional<std::int64_t> ns = parse_utc_time(f[0]);
   if (!ns) {
@@ -161,7 +146,7 @@ ParsedRow parse_row(const TextLine& line, const std::string& source) {
   row.record.position_enu = {v[1], v[2], v[3]};
   row.record.velocity_enu = {v[5], v[4], v[6]};  // the file has north, east, up
   row.record.attitude = {v[7], v[8], heading_enu_from_azimuth(v[9])};
-  row.record.status = parse_status(f[11], where(11));
+  row.record.status = parse_whole_number(f[11], where(11));
   return row;
 }
 

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <array>
-#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -42,15 +41,6 @@ struct Stamp {
   std::size_t line = 0;  // in timestamps.txt
 };
 
-int parse_integral(std::string_view text, const FieldLocation& where) {
-  const double value = parse_double(text, where);
-  if (value != std::floor(value) || value < INT_MIN || value > INT_MAX) {
-    throw InputError(where.file, where.line, where.field,
-                     fmt::format("expected an integer, found '{}'", text));
-  }
-  return static_cast<int>(value);
-}
-
 Packet parse_packet(const fs::path& file) {
   const std::string source = file.string();
   const std::string text = read_text_file(file);
@@ -72,7 +62,7 @@ Packet parse_packet(const fs::path& file) {
   packet.velocity_local_level = {v[kVe], v[kVn], v[kVu]};
   packet.attitude_local_level = {v[kRoll], v[kPitch], v[kYaw]};
   packet.posmode =
-      parse_integral(fields[kPosmode], {source, lines.front().number, kFields[kPosmode]});
+      parse_whole_number(fields[kPosmode], {source, lines.front().number, kFields[kPosmode]});
   return packet;
 }
 

@@ -41,13 +41,8 @@ ContiColumns parse_header(const TextLine& line, const std::string& source) {
 StampedRadarDetection parse_row(const TextLine& line, const ContiColumns& columns,
                                 const std::vector<std::string_view>& names,
                                 const std::string& source) {
-  const std::vector<std::string_view> f = split_fields(line.text);
-  if (f.size() != columns.count) {
-    throw InputError(source, line.number, {},
-                     fmt::format("expected {} comma-separated fields (as many as the header "
-                                 "names), found {}",
-                                 columns.count, f.size()));
-  }
+  const std::vector<std::string_view> f =
+      split_exact_fields(line, columns.count, source, " (as many as the header names)");
   const auto where = [&](std::size_t i) {
     return FieldLocation{source, line.number, std::string(names[i])};
   };

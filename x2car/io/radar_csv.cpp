@@ -78,13 +78,8 @@ int parse_generic_track_id(std::string_view text, const FieldLocation& where) {
 
 RadarDetection parse_generic_row(const TextLine& line, const GenericColumns& columns,
                                  const std::string& source) {
-  const std::vector<std::string_view> f = split_fields(line.text);
-  if (f.size() != columns.count) {
-    throw InputError(source, line.number, {},
-                     fmt::format("expected {} comma-separated fields (as many as the header "
-                                 "names), found {}",
-                                 columns.count, f.size()));
-  }
+  const std::vector<std::string_view> f =
+      split_exact_fields(line, columns.count, source, " (as many as the header names)");
   const auto where = [&](std::string_view name) {
     return FieldLocation{source, line.number, std::string(name)};
   };

@@ -52,12 +52,7 @@ std::string format_row(const RadarDetection& d, std::int64_t unix_time_ns, std::
 
 // nullopt for a "no track" row (status 0 or 6), after every field is checked.
 std::optional<StampedRadarDetection> parse_row(const TextLine& line, const std::string& source) {
-  const std::vector<std::string_view> f = split_fields(line.text);
-  if (f.size() != kFields.size()) {
-    throw InputError(
-        source, line.number, {},
-        fmt::format("expected {} comma-separated fields, found {}", kFields.size(), f.size()));
-  }
+  const std::vector<std::string_view> f = split_exact_fields(line, kFields.size(), source);
   const auto where = [&](std::size_t i) { return FieldLocation{source, line.number, kFields[i]}; };
   std::array<double, kFields.size()> v{};
   for (const std::size_t i :

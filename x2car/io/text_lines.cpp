@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <climits>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -171,6 +172,26 @@ std::int64_t parse_integer(std::string_view text, const FieldLocation& where) {
     throw field_error(where, fmt::format("not an integer: {}", quoted(text)));
   }
   return value;
+}
+
+int parse_whole_number(std::string_view text, const FieldLocation& where) {
+  const double value = parse_double(text, where);
+  if (value != std::floor(value) || value < INT_MIN || value > INT_MAX) {
+    throw field_error(where, fmt::format("expected an integer, found '{}'", text));
+  }
+  return static_cast<int>(value);
+}
+
+std::vector<std::string_view> split_exact_fields(const TextLine& line, std::size_t count,
+                                                 const std::string& source,
+                                                 std::string_view count_note) {
+  std::vector<std::string_view> fields = split_fields(line.text);
+  if (fields.size() != count) {
+    throw InputError(source, line.number, {},
+                     fmt::format("expected {} comma-separated fields{}, found {}", count,
+                                 count_note, fields.size()));
+  }
+  return fields;
 }
 
 std::vector<double> parse_named_doubles(std::span<const std::string_view> fields,

@@ -80,6 +80,18 @@ double parse_double(std::string_view text, const FieldLocation& where,
 // Parses a whole field as a signed 64-bit integer; InputError at `where` otherwise.
 std::int64_t parse_integer(std::string_view text, const FieldLocation& where);
 
+// Parses a number with no fractional part that fits an int, also when written as a float ("4.0",
+// "4e0"): devices write integer codes (solution status, modes) that way. InputError at `where`
+// otherwise.
+int parse_whole_number(std::string_view text, const FieldLocation& where);
+
+// Splits a line (split_fields) and checks it has exactly `count` fields; otherwise InputError at
+// the line: "expected <count> comma-separated fields<count_note>, found <n>", where count_note
+// says where the count comes from (e.g. " (as many as the header names)"), or is empty.
+std::vector<std::string_view> split_exact_fields(const TextLine& line, std::size_t count,
+                                                 const std::string& source,
+                                                 std::string_view count_note = {});
+
 // Parses the fields of one line as doubles after checking there are exactly `names.size()` of
 // them; each error names the field by its name. `file` and `line` locate the line.
 std::vector<double> parse_named_doubles(std::span<const std::string_view> fields,
