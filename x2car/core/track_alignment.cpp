@@ -26,17 +26,19 @@ void check_track(const SensorTrack& track) {
   }
 }
 
-// Velocity of the sensor [m/s]: the input's, or the derivative of the position splines.
-std::vector<Eigen::Vector3d> sensor_velocities(const SensorTrack& track, const PlanarTrack& planar,
+// Velocity of the sensor [m/s] from the splines, for tracks without their own: horizontal from
+// the sampled planar track, vertical from a spline of z.
+std::vector<Eigen::Vector3d> spline_velocities(const SensorTrack& track,
+                                               const PlanarTrackSamples& samples,
                                                const TrackAlignmentOptions& options) {
-  if (!track.velocity_enu.empty()) return track.velocity_enu;
   std::vector<double> z(track.time.size());
   for (std::size_t i = 0; i < z.size(); ++i) z[i] = track.position_enu[i].z();
   const PSpline z_of_time = fit_pspline(track.time, z, options.track.spline);
   std::vector<Eigen::Vector3d> velocities(track.time.size());
   for (std::size_t i = 0; i < velocities.size(); ++i) {
-    const PlanarTrackState state = planar.state(track.time[i]);
-    velocities[i] = {state.velocity_x, state.velocity_y, z_of_time.derivative(track.time[i], 1)};
+    velocities[i] = {samples.speed[i] * std::cos(samples.heading_enu[i]),
+                     samples.speed[i] * std::sin(samples.heading_enu[i]),
+                     z_of_time.derivative(track.time[i], 1)};
   }
   return velocities;
 }
@@ -98,14 +100,14 @@ void velocity_direction_angles(const Eigen::Vector3d& velocity_enu,
 // Longitudinal acceleration [m/s^2] of the planar track: the projection of (x'', y'') on the
 // direction of motion.
 std::vector<double> longitudinal_accelerations(const PlanarTrack& track,
-                                               std::span<const double> times) {
-  std::vector<double> accelerations(times.size(), 0.0);
-  for (std::size_t i = 0; i < times.size(); ++i) {
-    const PlanarTrackState state = track.state(times[i]);
-    if (!(state.speed > 0.0)) continue;
-    const double ax = track.x_spline().derivative(times[i], 2);
-    const double ay = track.y_spline().derivative(times[i], 2);
-    accelerations[i] = (state.velocity_x * ax + state.velocity_y * ay) / state.speed;
+                                               const PlanarTrackSamples& samples) {
+  std::vector<double> accelerations(samples.time.size(), 0.0);
+  for (std::size_t i = 0; i < samples.time.size(); ++i) {
+    if (!(samples.speed[i] > 0.0)) continue;
+    const double ax = track.x_spline().derivative(samples.time[i], 2);
+    const double ay = track.y_spline().derivative(samples.time[i], 2);
+    accelerations[i] =
+        std::cos(samples.heading_enu[i]) * ax + std::sin(samples.heading_enu[i]) * ay;
   }
   return accelerations;
 }
@@ -177,9 +179,14 @@ TrackAlignment align_track(const SensorTrack& sensor_track, const TrackAlignment
 
   TrackAlignment alignment;
   alignment.track = sample_planar_track(planar, sensor_track.time);
-  alignment.longitudinal_acceleration = longitudinal_accelerations(planar, sensor_track.time);
+  alignment.longitudinal_acceleration = longitudinal_accelerations(planar, alignment.track);
   alignment.velocity_from_sensor = !sensor_track.velocity_enu.empty();
-  const std::vector<Eigen::Vector3d> velocities = sensor_velocities(sensor_track, planar, options);
+  const std::vector<Eigen::Vector3d> from_splines =
+      alignment.velocity_from_sensor ? std::vector<Eigen::Vector3d>{}
+                                     : spline_velocities(sensor_track, alignment.track, options);
+  const std::span<const Eigen::Vector3d> velocities =
+      alignment.velocity_from_sensor ? std::span<const Eigen::Vector3d>(sensor_track.velocity_enu)
+                                     : std::span<const Eigen::Vector3d>(from_splines);
   alignment.sensor_heading.resize(n);
   alignment.heading_offset.resize(n);
   alignment.velocity_yaw.resize(n);
