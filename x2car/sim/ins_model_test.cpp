@@ -11,32 +11,18 @@
 #include "x2car/core/rotation.hpp"
 #include "x2car/core/test_matchers.hpp"
 #include "x2car/sim/random.hpp"
+#include "x2car/sim/test_drives.hpp"
 
 namespace x2car::sim {
 namespace {
 
+using testing::straight_drive;
 using x2car::testing::AngleNearDeg;
 
 // ---- constructed truth -------------------------------------------------------------------------
 
-// Level straight drive at constant `speed` [m/s] along `heading_enu` [rad], sampled at `rate_hz`.
-VehicleStates straight_drive(double duration_s, double rate_hz, double speed, double heading_enu) {
-  const Eigen::Vector3d direction(std::cos(heading_enu), std::sin(heading_enu), 0.0);
-  VehicleStates states;
-  const int n = static_cast<int>(std::lround(duration_s * rate_hz)) + 1;
-  for (int i = 0; i < n; ++i) {
-    VehicleState s;
-    s.time = i / rate_hz;
-    s.world_from_vehicle = make_transform(EulerAngles{0, 0, heading_enu},
-                                          Eigen::Vector3d(5, -7, 30) + direction * speed * s.time);
-    s.velocity_enu = direction * speed;
-    s.speed = speed;
-    s.heading_enu = heading_enu;
-    s.straight = true;
-    states.push_back(s);
-  }
-  return states;
-}
+// Where the straight drives start: away from the origin, so that positions are not trivially 0.
+const Eigen::Vector3d kStart(5, -7, 30);
 
 // Level circle of `radius` [m] driven left at `speed` [m/s]: position, heading, velocity and the
 // yaw rate omega = speed / radius about the vehicle's z axis.
@@ -100,7 +86,7 @@ const Eigen::Isometry3d kVehicleFromIns =
 
 TEST(InsModel, YawMinusTrackHeadingIsTheMountingYawOnAStraight) {
   const double heading = rad_from_deg(30.0);
-  const VehicleStates truth = straight_drive(60.0, 100.0, 12.0, heading);
+  const VehicleStates truth = straight_drive(60.0, 12.0, heading, 100.0, kStart);
   const InsOptions options = InsOptions::rtk();
   const std::vector<InsSample> samples = simulate_ins(truth, kVehicleFromIns, options, 7);
   std::vector<double> offsets, rolls, pitches;
@@ -123,7 +109,7 @@ TEST(InsModel, YawMinusTrackHeadingIsTheMountingYawOnAStraight) {
 }
 
 TEST(InsModel, SignCheckDeviceYawedLeftReportsPositiveOffset) {
-  const VehicleStates truth = straight_drive(1.0, 100.0, 10.0, rad_from_deg(-170.0));
+  const VehicleStates truth = straight_drive(1.0, 10.0, rad_from_deg(-170.0), 100.0, kStart);
   const Eigen::Isometry3d yawed_left = make_transform(EulerAngles{0, 0, rad_from_deg(2.0)}, {});
   for (const InsSample& s : simulate_ins(truth, yawed_left, noise_free(), 1)) {
     EXPECT_THAT(angle_difference(s.attitude.yaw, rad_from_deg(-170.0)),
@@ -132,7 +118,7 @@ TEST(InsModel, SignCheckDeviceYawedLeftReportsPositiveOffset) {
 }
 
 TEST(InsModel, PositionNoiseMatchesTheConfiguredSigma) {
-  const VehicleStates truth = straight_drive(60.0, 100.0, 12.0, 1.0);
+  const VehicleStates truth = straight_drive(60.0, 12.0, 1.0, 100.0, kStart);
   const InsOptions options = InsOptions::rtk();
   const auto errors =
       position_errors(simulate_ins(truth, kVehicleFromIns, options, 11), truth, kVehicleFromIns);
@@ -147,7 +133,7 @@ TEST(InsModel, PositionNoiseMatchesTheConfiguredSigma) {
 
 TEST(InsModel, SpsPositionErrorHasItsSigmaAndIsTimeCorrelated) {
   // Three hours at 10 Hz: ~1000 correlation times, so the sample std is within a few percent.
-  const VehicleStates truth = straight_drive(3 * 3600.0, 10.0, 12.0, 1.0);
+  const VehicleStates truth = straight_drive(3 * 3600.0, 12.0, 1.0, 10.0, kStart);
   InsOptions options = InsOptions::sps();
   options.rate_hz = 10.0;
   const auto errors =
@@ -168,7 +154,7 @@ TEST(InsModel, SpsPositionErrorHasItsSigmaAndIsTimeCorrelated) {
 }
 
 TEST(InsModel, HeadingBiasDriftsSlowly) {
-  const VehicleStates truth = straight_drive(4 * 3600.0, 10.0, 12.0, 0.3);
+  const VehicleStates truth = straight_drive(4 * 3600.0, 12.0, 0.3, 10.0, kStart);
   InsOptions options = noise_free();
   options.rate_hz = 10.0;
   options.heading_bias_sigma = rad_from_deg(0.02);
@@ -212,7 +198,7 @@ TEST(InsModel, LeverArmVelocityInAConstantRateTurn) {
 }
 
 TEST(InsModel, DeterministicForASeedAndDifferentAcrossSeeds) {
-  const VehicleStates truth = straight_drive(5.0, 100.0, 10.0, 0.5);
+  const VehicleStates truth = straight_drive(5.0, 10.0, 0.5, 100.0, kStart);
   const auto a = simulate_ins(truth, kVehicleFromIns, InsOptions::sps(), 42);
   const auto b = simulate_ins(truth, kVehicleFromIns, InsOptions::sps(), 42);
   const auto c = simulate_ins(truth, kVehicleFromIns, InsOptions::sps(), 43);
@@ -228,7 +214,7 @@ TEST(InsModel, DeterministicForASeedAndDifferentAcrossSeeds) {
 }
 
 TEST(InsModel, SamplesEveryKthStateWhenTheTruthIsFaster) {
-  const VehicleStates truth = straight_drive(2.0, 200.0, 10.0, 0.0);  // 401 states
+  const VehicleStates truth = straight_drive(2.0, 10.0, 0.0, 200.0, kStart);  // 401 states
   const std::vector<InsSample> samples = simulate_ins(truth, kVehicleFromIns, noise_free(), 1);
   ASSERT_EQ(samples.size(), 201u);
   EXPECT_EQ(samples[1].time, truth[2].time);
@@ -248,9 +234,9 @@ TEST(InsModel, OptionsCheckRejectsNonsense) {
   EXPECT_THROW(o.Check(), std::invalid_argument);
   o = InsOptions{};
   o.velocity_sigma_vertical = -0.1;
-  EXPECT_THROW(simulate_ins(straight_drive(1, 100, 1, 0), kVehicleFromIns, o, 1),
+  EXPECT_THROW(simulate_ins(straight_drive(1, 1, 0, 100, kStart), kVehicleFromIns, o, 1),
                std::invalid_argument);
-  VehicleStates backwards = straight_drive(1, 100, 1, 0);
+  VehicleStates backwards = straight_drive(1, 1, 0, 100, kStart);
   backwards.back().time = -1.0;
   EXPECT_THROW(simulate_ins(backwards, kVehicleFromIns, InsOptions{}, 1), std::invalid_argument);
 }

@@ -15,11 +15,13 @@
 #include "x2car/core/test_matchers.hpp"
 #include "x2car/io/radar_conti.hpp"
 #include "x2car/sim/route.hpp"
+#include "x2car/sim/test_drives.hpp"
 #include "x2car/sim/vehicle_motion.hpp"
 
 namespace x2car::sim {
 namespace {
 
+using testing::straight_drive;
 using x2car::testing::AngleNearDeg;
 
 VehicleStates drive(Scenario scenario, double duration_s, std::uint64_t seed) {
@@ -27,24 +29,6 @@ VehicleStates drive(Scenario scenario, double duration_s, std::uint64_t seed) {
   const Route route =
       generate_route(scenario, route_length_for(scenario, duration_s, motion), seed);
   return simulate_vehicle_motion(route, scenario, duration_s, motion, seed);
-}
-
-// A flat straight drive at constant speed along heading_enu, 100 Hz: no yaw rate, no pitch.
-VehicleStates straight_constant_speed(double speed, double duration_s, double heading_enu) {
-  VehicleStates states;
-  const Eigen::Vector3d direction(std::cos(heading_enu), std::sin(heading_enu), 0.0);
-  for (int i = 0; i <= static_cast<int>(std::lround(duration_s * 100.0)); ++i) {
-    VehicleState s;
-    s.time = 0.01 * i;
-    s.world_from_vehicle.linear() = rotation_from_euler({0.0, 0.0, heading_enu});
-    s.world_from_vehicle.translation() = speed * s.time * direction;
-    s.velocity_enu = speed * direction;
-    s.speed = speed;
-    s.heading_enu = heading_enu;
-    s.straight = true;
-    states.push_back(s);
-  }
-  return states;
 }
 
 Eigen::Isometry3d radar_mounting(double yaw_deg) {
@@ -84,7 +68,7 @@ double fit_doppler_yaw(const std::vector<RadarScan>& scans, double speed, bool t
 }
 
 TEST(RadarModel, SameArgumentsGiveTheSameScans) {
-  const VehicleStates states = straight_constant_speed(12.0, 20.0, 0.4);
+  const VehicleStates states = straight_drive(20.0, 12.0, 0.4);
   const auto a = simulate(states, radar_mounting(3.0), {}, 5);
   const auto b = simulate(states, radar_mounting(3.0), {}, 5);
   const auto c = simulate(states, radar_mounting(3.0), {}, 6);
@@ -102,7 +86,7 @@ TEST(RadarModel, SameArgumentsGiveTheSameScans) {
 }
 
 TEST(RadarModel, ScansComeAtTheConfiguredRate) {
-  const VehicleStates states = straight_constant_speed(10.0, 10.0, 0.0);
+  const VehicleStates states = straight_drive(10.0, 10.0, 0.0);
   for (const RadarOptions& options : {RadarOptions::conti_ars408(), RadarOptions::delphi_esr()}) {
     const auto scans = simulate(states, radar_mounting(0.0), options);
     ASSERT_EQ(scans.size(), static_cast<std::size_t>(std::floor(10.0 * options.rate_hz)) + 1);
@@ -120,7 +104,7 @@ TEST(RadarModel, ScansComeAtTheConfiguredRate) {
 // sign check: a radar yawed +10 deg must give +10 deg, one yawed -7 deg must give -7 deg.
 TEST(RadarModel, StaticTargetsSatisfyTheDopplerRelationWithTheMountingYaw) {
   const double speed = 11.0;
-  const VehicleStates states = straight_constant_speed(speed, 60.0, rad_from_deg(35.0));
+  const VehicleStates states = straight_drive(60.0, speed, rad_from_deg(35.0));
   for (const double yaw_deg : {10.0, -7.0, 0.0}) {
     const auto scans = simulate(states, radar_mounting(yaw_deg));
     std::size_t count = 0;
@@ -136,7 +120,7 @@ TEST(RadarModel, StaticTargetsSatisfyTheDopplerRelationWithTheMountingYaw) {
 
 // Range rate is negative for a target coming closer and positive for one moving away.
 TEST(RadarModel, RangeRateIsNegativeWhenApproaching) {
-  const VehicleStates states = straight_constant_speed(0.0, 5.0, 0.0);  // the car stands
+  const VehicleStates states = straight_drive(5.0, 0.0, 0.0);  // the car stands
   RadarScene scene;
   RadarMover coming{1, 10.0, {}};
   RadarMover leaving{2, 10.0, {}};
@@ -167,7 +151,7 @@ TEST(RadarModel, RangeRateIsNegativeWhenApproaching) {
 }
 
 TEST(RadarModel, RadarVelocityIncludesTheLeverArm) {
-  VehicleStates states = straight_constant_speed(0.0, 1.0, rad_from_deg(90.0));
+  VehicleStates states = straight_drive(1.0, 0.0, rad_from_deg(90.0));
   for (VehicleState& s : states) s.angular_velocity_vehicle = {0.0, 0.0, 0.5};  // turning on spot
   const RadarKinematics k = radar_kinematics_at(states, radar_mounting(0.0), 0.5);
   // omega x lever arm in V = (0, 0, 0.5) x (3.7, 0.1, 0.5) = (-0.05, 1.85, 0); V faces north.

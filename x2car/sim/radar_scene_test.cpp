@@ -7,26 +7,12 @@
 #include <stdexcept>
 
 #include "x2car/core/rotation.hpp"
+#include "x2car/sim/test_drives.hpp"
 
 namespace x2car::sim {
 namespace {
 
-// Flat, straight, constant speed along heading_enu, 100 Hz.
-VehicleStates straight_drive(double speed, double duration_s, double heading_enu) {
-  VehicleStates states;
-  const Eigen::Vector3d direction(std::cos(heading_enu), std::sin(heading_enu), 0.0);
-  for (int i = 0; i <= static_cast<int>(std::lround(duration_s * 100.0)); ++i) {
-    VehicleState s;
-    s.time = 0.01 * i;
-    s.world_from_vehicle.linear() = rotation_from_euler({0.0, 0.0, heading_enu});
-    s.world_from_vehicle.translation() = speed * s.time * direction;
-    s.velocity_enu = speed * direction;
-    s.speed = speed;
-    s.heading_enu = heading_enu;
-    states.push_back(s);
-  }
-  return states;
-}
+using testing::straight_drive;
 
 // Sideways offset of a point from the straight path through the origin along heading (left > 0).
 double lateral(const Eigen::Vector3d& p, double heading) {
@@ -37,7 +23,7 @@ double along(const Eigen::Vector3d& p, double heading) {
 }
 
 TEST(RadarScene, SameSeedSameScene) {
-  const VehicleStates states = straight_drive(10.0, 20.0, 1.0);
+  const VehicleStates states = straight_drive(20.0, 10.0, 1.0);
   const RadarScene a = generate_radar_scene(states, {}, 9);
   const RadarScene b = generate_radar_scene(states, {}, 9);
   const RadarScene c = generate_radar_scene(states, {}, 10);
@@ -53,7 +39,7 @@ TEST(RadarScene, SameSeedSameScene) {
 TEST(RadarScene, PlacesRoadsideObjectsAndTrafficWhereTheOptionsSay) {
   const double heading = 1.0;
   const double speed = 10.0;
-  const VehicleStates states = straight_drive(speed, 30.0, heading);
+  const VehicleStates states = straight_drive(30.0, speed, heading);
   const RadarSceneOptions options;
   const RadarScene scene = generate_radar_scene(states, options, 4, 1000);
   std::size_t right = 0, left = 0, parked = 0;
@@ -101,7 +87,7 @@ TEST(RadarScene, PlacesRoadsideObjectsAndTrafficWhereTheOptionsSay) {
 }
 
 TEST(RadarScene, CarsAheadKeepTheirGapAndNeverReverse) {
-  const VehicleStates states = straight_drive(8.0, 60.0, 0.0);
+  const VehicleStates states = straight_drive(60.0, 8.0, 0.0);
   RadarSceneOptions options;
   options.cars_behind = 0;
   const RadarScene scene = generate_radar_scene(states, options, 2);
@@ -120,7 +106,7 @@ TEST(RadarScene, CarsAheadKeepTheirGapAndNeverReverse) {
 }
 
 TEST(RadarScene, TrafficDensityScalesTheMovers) {
-  const VehicleStates states = straight_drive(10.0, 30.0, 0.0);
+  const VehicleStates states = straight_drive(30.0, 10.0, 0.0);
   RadarSceneOptions sparse;
   sparse.traffic_density = 0.5;
   RadarSceneOptions dense;
