@@ -1,0 +1,176 @@
+#include "x2car/lidar/sweep_folder.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <optional>
+#include <string_view>
+
+#include "x2car/core/error.hpp"
+#include "x2car/io/kitti_velodyne.hpp"
+#include "x2car/io/pcd.hpp"
+#include "x2car/io/text_lines.hpp"
+
+namespace x2car::lidar {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr std::size_t kNanosecondDigits = 16;  // a whole-number stem this long counts nanoseconds
+
+std::string lower_extension(const fs::path& path) {
+  std::string extension = path.extension().string();
+  std::ranges::transform(extension, extension.begin(),
+                         [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
+
+// Regular files directly in `folder`, sorted by name, split into those with `extension` and the
+// count of the rest.
+std::vector<fs::path> files_with_extension(const fs::path& folder, std::string_view extension,
+                                           std::size_t& others) {
+  std::vector<fs::path> matching;
+  for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
+    if (!entry.is_regular_file()) continue;
+    if (lower_extension(entry.path()) == extension) {
+      matching.push_back(entry.path());
+    } else {
+      ++others;
+    }
+  }
+  std::ranges::sort(matching);
+  return matching;
+}
+
+// The time a file's stem names, or nothing when the stem is not a time.
+std::optional<double> time_from_stem(const std::string& stem) {
+  if (stem.empty() || !std::ranges::all_of(stem, [](char c) {
+        return std::isdigit(static_cast<unsigned char>(c)) != 0 || c == '.';
+      })) {
+    return std::nullopt;
+  }
+  const std::size_t dots = static_cast<std::size_t>(std::ranges::count(stem, '.'));
+  if (dots > 1) return std::nullopt;
+  if (dots == 0) {
+    if (stem.size() < kNanosecondDigits) return std::nullopt;  // a sequence number, not a time
+    std::uint64_t nanoseconds = 0;
+    const auto [end, error] = std::from_chars(stem.data(), stem.data() + stem.size(), nanoseconds);
+    if (error != std::errc{} || end != stem.data() + stem.size()) return std::nullopt;
+    return static_cast<double>(nanoseconds / 1'000'000'000ULL) +
+           static_cast<double>(nanoseconds % 1'000'000'000ULL) * 1e-9;
+  }
+  double seconds = 0.0;
+  const auto [end, error] = std::from_chars(stem.data(), stem.data() + stem.size(), seconds);
+  if (error != std::errc{} || end != stem.data() + stem.size()) return std::nullopt;
+  return seconds;
+}
+
+std::vector<double> read_times_file(const fs::path& path) {
+  const std::string text = io::read_text_file(path);
+  std::vector<double> times;
+  for (const io::TextLine& line : io::split_lines(text)) {
+    const std::string_view field = io::trim(line.text);
+    if (field.empty()) continue;
+    times.push_back(io::parse_double(field, {path.string(), line.number, "time"}));
+  }
+  return times;
+}
+
+std::vector<SweepFile> attach_times_file(const std::vector<fs::path>& files,
+                                         const fs::path& times_path) {
+  const std::vector<double> times = read_times_file(times_path);
+  if (times.size() != files.size()) {
+    throw InputError(times_path.string(),
+                     fmt::format("holds {} times but the folder has {} sweep files", times.size(),
+                                 files.size()));
+  }
+  std::vector<SweepFile> sweeps;
+  for (std::size_t i = 0; i < files.size(); ++i) sweeps.push_back({files[i], times[i]});
+  return sweeps;
+}
+
+void sort_and_check(std::vector<SweepFile>& sweeps) {
+  std::ranges::stable_sort(sweeps, {}, &SweepFile::time);
+  for (std::size_t i = 1; i < sweeps.size(); ++i) {
+    if (sweeps[i].time == sweeps[i - 1].time) {
+      throw InputError(sweeps[i].path.string(),
+                       fmt::format("has the same time ({:.6f} s) as {}", sweeps[i].time,
+                                   sweeps[i - 1].path.filename().string()));
+    }
+  }
+}
+
+SweepFolder list_kitti(const fs::path& folder) {
+  SweepFolder result;
+  result.folder = folder / "velodyne";
+  result.format = SweepFileFormat::kKittiBin;
+  const std::vector<fs::path> files =
+      files_with_extension(result.folder, ".bin", result.ignored_files);
+  if (files.empty()) throw InputError(result.folder.string(), "holds no .bin KITTI scans");
+  const fs::path times_path = folder / "times.txt";
+  if (!fs::is_regular_file(times_path)) {
+    throw InputError(times_path.string(),
+                     "is missing: KITTI scans take their times from times.txt beside velodyne/");
+  }
+  result.sweeps = attach_times_file(files, times_path);
+  result.time_source = times_path.string();
+  sort_and_check(result.sweeps);
+  return result;
+}
+
+SweepFolder list_pcd(const fs::path& folder, std::vector<fs::path> files, std::size_t others) {
+  SweepFolder result;
+  result.folder = folder;
+  result.ignored_files = others;
+  const fs::path times_path = folder / "times.txt";
+  if (fs::is_regular_file(times_path)) {
+    --result.ignored_files;  // times.txt is part of the log, not a stray file
+    result.sweeps = attach_times_file(files, times_path);
+    result.time_source = times_path.string();
+  } else {
+    for (const fs::path& file : files) {
+      const std::optional<double> time = time_from_stem(file.stem().string());
+      if (!time) {
+        throw InputError(file.string(),
+                         "the name is not a time (seconds with a fraction, e.g. 000012.300000.pcd, "
+                         "or 16+ digits of nanoseconds) and there is no times.txt beside it");
+      }
+      result.sweeps.push_back({file, *time});
+    }
+    result.time_source = "file names";
+  }
+  sort_and_check(result.sweeps);
+  return result;
+}
+
+std::optional<SweepFolder> try_folder(const fs::path& folder) {
+  if (fs::is_directory(folder / "velodyne")) return list_kitti(folder);
+  std::size_t others = 0;
+  std::vector<fs::path> pcd_files = files_with_extension(folder, ".pcd", others);
+  if (pcd_files.empty()) return std::nullopt;
+  return list_pcd(folder, std::move(pcd_files), others);
+}
+
+}  // namespace
+
+SweepFolder list_sweeps(const fs::path& folder) {
+  if (!fs::is_directory(folder)) throw InputError(folder.string(), "is not a folder");
+  if (std::optional<SweepFolder> sweeps = try_folder(folder)) return *std::move(sweeps);
+  if (fs::is_directory(folder / "lidar")) {
+    if (std::optional<SweepFolder> sweeps = try_folder(folder / "lidar")) {
+      return *std::move(sweeps);
+    }
+  }
+  throw InputError(folder.string(),
+                   "holds no LiDAR sweeps: expected *.pcd files, velodyne/*.bin with times.txt, "
+                   "or a lidar/ subfolder holding either");
+}
+
+io::PointCloud read_sweep(const SweepFolder& folder, const SweepFile& sweep) {
+  return folder.format == SweepFileFormat::kPcd ? io::read_pcd(sweep.path)
+                                                : io::read_kitti_velodyne(sweep.path);
+}
+
+}  // namespace x2car::lidar
