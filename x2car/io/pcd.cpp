@@ -102,39 +102,45 @@ void append_compressed(const PointCloud& cloud, std::string& bytes) {
 
 // ---- reading: data -------------------------------------------------------------------------
 
-template <typename T>
-double load(const char* in) {
-  T value;
-  std::memcpy(&value, in, sizeof(T));
-  return static_cast<double>(value);
+// Calls store(i, value) for the values of one binary field, value i at first + i * stride. The
+// switch on the field's type sits outside the loop, so each loop is a plain typed copy.
+template <typename T, typename Store>
+void decode_typed(const char* first, std::size_t stride, std::size_t n, Store& store) {
+  for (std::size_t i = 0; i < n; ++i) {
+    T value;
+    std::memcpy(&value, first + i * stride, sizeof(T));
+    store(i, static_cast<double>(value));
+  }
 }
 
-// Reads one value of a binary field.
-double load_value(const char* in, const PcdField& field) {
+template <typename Store>
+void decode_column(const char* first, std::size_t stride, std::size_t n, const PcdField& field,
+                   Store store) {
   switch (field.type) {
     case 'F':
-      return field.size == 4 ? load<float>(in) : load<double>(in);
+      return field.size == 4 ? decode_typed<float>(first, stride, n, store)
+                             : decode_typed<double>(first, stride, n, store);
     case 'U':
       switch (field.size) {
         case 1:
-          return load<std::uint8_t>(in);
+          return decode_typed<std::uint8_t>(first, stride, n, store);
         case 2:
-          return load<std::uint16_t>(in);
+          return decode_typed<std::uint16_t>(first, stride, n, store);
         case 4:
-          return load<std::uint32_t>(in);
+          return decode_typed<std::uint32_t>(first, stride, n, store);
         default:
-          return load<std::uint64_t>(in);
+          return decode_typed<std::uint64_t>(first, stride, n, store);
       }
     default:
       switch (field.size) {
         case 1:
-          return load<std::int8_t>(in);
+          return decode_typed<std::int8_t>(first, stride, n, store);
         case 2:
-          return load<std::int16_t>(in);
+          return decode_typed<std::int16_t>(first, stride, n, store);
         case 4:
-          return load<std::int32_t>(in);
+          return decode_typed<std::int32_t>(first, stride, n, store);
         default:
-          return load<std::int64_t>(in);
+          return decode_typed<std::int64_t>(first, stride, n, store);
       }
   }
 }
@@ -177,23 +183,21 @@ UsedFields used_fields(const PcdHeader& header, const std::string& file) {
   return used;
 }
 
-// Raw values of the used fields, one row per point, before conversion to LidarPoint.
-struct RawColumns {
-  std::vector<double> x, y, z, intensity, ring, time;
-};
-
+// Decodes the data section straight into the cloud's points; times go through a double column
+// first, because an absolute stamp (1e9 s) loses its sub-millisecond part in a float.
 class DataReader {
  public:
   DataReader(std::string_view bytes, const PcdHeader& header, const UsedFields& used,
              const std::string& file)
       : bytes_(bytes), header_(header), used_(used), file_(file) {}
 
-  RawColumns read() {
+  PointCloud read() {
     const std::size_t n = header_.points;
-    for (auto* column : {&raw_.x, &raw_.y, &raw_.z}) column->resize(n);
-    if (used_.intensity) raw_.intensity.resize(n);
-    if (used_.ring) raw_.ring.resize(n);
-    if (used_.time) raw_.time.resize(n);
+    cloud_.points.resize(n);
+    cloud_.has_intensity = used_.intensity.has_value();
+    cloud_.has_ring = used_.ring.has_value();
+    cloud_.has_time = used_.time.has_value();
+    if (used_.time) time_.resize(n);
     switch (header_.data) {
       case DataKind::kAscii:
         read_ascii();
@@ -205,18 +209,34 @@ class DataReader {
         read_compressed();
         break;
     }
-    return std::move(raw_);
+    if (used_.time) set_times();
+    return std::move(cloud_);
   }
 
  private:
-  // Calls store(column, field) for every used field.
-  template <typename Store>
-  void for_used(Store store) {
-    for (std::size_t a = 0; a < 3; ++a)
-      store(a == 0 ? raw_.x : a == 1 ? raw_.y : raw_.z, used_.xyz[a]);
-    if (used_.intensity) store(raw_.intensity, *used_.intensity);
-    if (used_.ring) store(raw_.ring, *used_.ring);
-    if (used_.time) store(raw_.time, *used_.time);
+  // Calls decode(field index, store) for every used field, store(i, value) keeping value i.
+  template <typename Decode>
+  void for_used(Decode decode) {
+    std::vector<LidarPoint>& points = cloud_.points;
+    decode(used_.xyz[0], [&](std::size_t i, double v) { points[i].x = static_cast<float>(v); });
+    decode(used_.xyz[1], [&](std::size_t i, double v) { points[i].y = static_cast<float>(v); });
+    decode(used_.xyz[2], [&](std::size_t i, double v) { points[i].z = static_cast<float>(v); });
+    if (used_.intensity) {
+      decode(*used_.intensity,
+             [&](std::size_t i, double v) { points[i].intensity = static_cast<float>(v); });
+    }
+    if (used_.ring) {
+      decode(*used_.ring, [&](std::size_t i, double v) {
+        if (!(v >= 0.0 && v <= 65535.0 && v == std::floor(v))) bad_ring(i, v);
+        points[i].ring = static_cast<std::uint16_t>(v);
+      });
+    }
+    if (used_.time) decode(*used_.time, [&](std::size_t i, double v) { time_[i] = v; });
+  }
+
+  [[noreturn]] void bad_ring(std::size_t point, double ring) const {
+    throw InputError(file_, header_.data_line, "ring",
+                     fmt::format("point {}: ring {} is not an integer in [0, 65535]", point, ring));
   }
 
   [[noreturn]] void truncated(std::size_t available_bytes, std::size_t needed_bytes) const {
@@ -232,11 +252,9 @@ class DataReader {
     const std::string_view data = bytes_.substr(header_.data_offset);
     const std::size_t needed = header_.points * header_.point_bytes;
     if (data.size() < needed) truncated(data.size(), needed);
-    for_used([&](std::vector<double>& column, std::size_t f) {
+    for_used([&](std::size_t f, auto store) {
       const PcdField& field = header_.fields[f];
-      for (std::size_t i = 0; i < header_.points; ++i) {
-        column[i] = load_value(data.data() + i * header_.point_bytes + field.offset, field);
-      }
+      decode_column(data.data() + field.offset, header_.point_bytes, header_.points, field, store);
     });
   }
 
@@ -258,11 +276,11 @@ class DataReader {
                                      static_cast<unsigned>(needed)) != needed) {
       throw InputError(file_, header_.data_line, "DATA", "binary_compressed data is corrupt");
     }
-    for_used([&](std::vector<double>& column, std::size_t f) {
+    for_used([&](std::size_t f, auto store) {
       const PcdField& field = header_.fields[f];
-      const char* block = fields.data() + header_.points * field.offset;  // all values of f
-      for (std::size_t i = 0; i < header_.points; ++i)
-        column[i] = load_value(block + i * field.size, field);
+      // All values of a field lie together, one after the other.
+      decode_column(fields.data() + header_.points * field.offset, field.size, header_.points,
+                    field, store);
     });
   }
 
@@ -282,10 +300,10 @@ class DataReader {
             file_, line, "",
             fmt::format("{} values, the header's fields need {}", tokens.size(), header_.tokens));
       }
-      for_used([&](std::vector<double>& column, std::size_t f) {
+      for_used([&](std::size_t f, auto store) {
         const PcdField& field = header_.fields[f];
-        column[point] =
-            parse_double(tokens[field.column], {file_, line, field.name}, NonFinite::kAllow);
+        store(point,
+              parse_double(tokens[field.column], {file_, line, field.name}, NonFinite::kAllow));
       });
       ++point;
     }
@@ -296,53 +314,32 @@ class DataReader {
     }
   }
 
-  std::string_view bytes_;
-  const PcdHeader& header_;
-  const UsedFields& used_;
-  const std::string& file_;
-  RawColumns raw_;
-};
-
-constexpr double kAbsoluteTime = 1e4;  // [s] times at least this large are absolute stamps
-
-PointCloud to_cloud(const RawColumns& raw, const PcdHeader& header, const UsedFields& used,
-                    const std::string& file) {
-  PointCloud cloud;
-  cloud.has_intensity = used.intensity.has_value();
-  cloud.has_ring = used.ring.has_value();
-  cloud.has_time = used.time.has_value();
-  const std::size_t n = header.points;
-  cloud.points.resize(n);
-  double time_scale = 1.0;  // to seconds
-  if (used.time && header.fields[*used.time].type != 'F') time_scale = 1e-9;
-  if (used.time) {
+  // Integer times are nanoseconds (Ouster's t), float times seconds; absolute stamps move into
+  // time_base (pcd.hpp).
+  void set_times() {
+    const double time_scale = header_.fields[*used_.time].type == 'F' ? 1.0 : 1e-9;
     double smallest = std::numeric_limits<double>::infinity();
     bool absolute = false;
-    for (const double time : raw.time) {
+    for (const double time : time_) {
       if (!std::isfinite(time)) continue;
       smallest = std::min(smallest, time * time_scale);
       absolute = absolute || std::abs(time * time_scale) >= kAbsoluteTime;
     }
-    if (absolute) cloud.time_base = smallest;
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    LidarPoint& p = cloud.points[i];
-    p.x = static_cast<float>(raw.x[i]);
-    p.y = static_cast<float>(raw.y[i]);
-    p.z = static_cast<float>(raw.z[i]);
-    if (used.intensity) p.intensity = static_cast<float>(raw.intensity[i]);
-    if (used.time) p.t = static_cast<float>(raw.time[i] * time_scale - cloud.time_base);
-    if (used.ring) {
-      const double ring = raw.ring[i];
-      if (!(ring >= 0.0 && ring <= 65535.0 && ring == std::floor(ring))) {
-        throw InputError(file, header.data_line, "ring",
-                         fmt::format("point {}: ring {} is not an integer in [0, 65535]", i, ring));
-      }
-      p.ring = static_cast<std::uint16_t>(ring);
+    if (absolute) cloud_.time_base = smallest;
+    for (std::size_t i = 0; i < time_.size(); ++i) {
+      cloud_.points[i].t = static_cast<float>(time_[i] * time_scale - cloud_.time_base);
     }
   }
-  return cloud;
-}
+
+  static constexpr double kAbsoluteTime = 1e4;  // [s] times at least this large are absolute
+
+  std::string_view bytes_;
+  const PcdHeader& header_;
+  const UsedFields& used_;
+  const std::string& file_;
+  PointCloud cloud_;
+  std::vector<double> time_;
+};
 
 }  // namespace
 
@@ -379,8 +376,7 @@ PointCloud read_pcd(const std::filesystem::path& path) {
 PointCloud parse_pcd(std::string_view bytes, const std::string& source_name) {
   const PcdHeader header = detail::parse_pcd_header(bytes, source_name);
   const UsedFields used = used_fields(header, source_name);
-  const RawColumns raw = DataReader(bytes, header, used, source_name).read();
-  return to_cloud(raw, header, used, source_name);
+  return DataReader(bytes, header, used, source_name).read();
 }
 
 }  // namespace x2car::io
