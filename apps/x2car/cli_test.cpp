@@ -185,6 +185,7 @@ TEST(Simulate, BadArgumentsExitWithTwo) {
   EXPECT_THAT(run.output, HasSubstr(broken.string()));
   EXPECT_EQ(run_x2car("simulate --sensors lidar --lidar-beams 48" + out).exit_code, 2);
   EXPECT_EQ(run_x2car("simulate --sensors lidar --lidar-format las" + out).exit_code, 2);
+  EXPECT_EQ(run_x2car("simulate --sensors radar --radar-format ars" + out).exit_code, 2);
 }
 
 TEST(Simulate, WritesLidarSweepsInTheChosenFormat) {
@@ -198,6 +199,43 @@ TEST(Simulate, WritesLidarSweepsInTheChosenFormat) {
   EXPECT_TRUE(std::filesystem::exists(folder / "lidar/velodyne/000009.bin"));
   EXPECT_TRUE(std::filesystem::exists(folder / "lidar/times.txt"));
   EXPECT_FALSE(std::filesystem::exists(folder / "lidar/000000.000000.pcd"));
+}
+
+// The number after `key: ` in the text from `from` on; NAN when absent.
+double number_after(const std::string& text, const std::string& from, const std::string& key) {
+  const std::size_t start = text.find(from);
+  const std::size_t at = start == std::string::npos ? start : text.find(key + ": ", start);
+  return at == std::string::npos ? NAN : std::stod(text.substr(at + key.size() + 2));
+}
+
+TEST(Simulate, RadarDriveCalibratesToTheTrueYaw) {
+  const auto folder = std::filesystem::path(::testing::TempDir()) / "cli_simulate_radar";
+  std::filesystem::remove_all(folder);
+  const CliRun run = run_x2car("simulate --scenario urban --duration 60 --seed 3 " +
+                               std::string("--sensors ins,radar --out ") + folder.string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("radar: "));
+  EXPECT_TRUE(std::filesystem::exists(folder / "radar_truth.csv"));
+  std::ifstream truth_file(folder / "ground_truth.yaml");
+  const std::string truth((std::istreambuf_iterator<char>(truth_file)),
+                          std::istreambuf_iterator<char>());
+  const double true_yaw_deg = number_after(truth, "vehicle_from_radar:", "yaw") * 180.0 / M_PI;
+  const double x = number_after(truth, "vehicle_from_radar:", "x");
+  const double y = number_after(truth, "vehicle_from_radar:", "y");
+  ASSERT_TRUE(std::isfinite(true_yaw_deg)) << truth;
+
+  const auto json = folder / "radar_result.json";
+  const CliRun calibrate =
+      run_x2car("calibrate radar --input " + (folder / "radar").string() + " --ins " +
+                (folder / "ins/novatel_enu.csv").string() + " --lever-arm " + std::to_string(x) +
+                " " + std::to_string(y) + " --out " + json.string());
+  ASSERT_EQ(calibrate.exit_code, 0) << calibrate.output;
+  std::ifstream result_file(json);
+  const std::string result((std::istreambuf_iterator<char>(result_file)),
+                           std::istreambuf_iterator<char>());
+  // The Doppler of about a thousand static targets pins the yaw to a few hundredths of a degree;
+  // 0.2 deg leaves room for the GNSS/INS's own heading and velocity errors.
+  EXPECT_NEAR(number_after(result, "", "\"yaw_deg\""), true_yaw_deg, 0.2) << result;
 }
 
 }  // namespace

@@ -3,11 +3,15 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <filesystem>
 #include <iostream>
+#include <limits>
 
 #include "apps/x2car/exit_codes.hpp"
 #include "apps/x2car/subcommand.hpp"
+#include "x2car/core/error.hpp"
 #include "x2car/io/ground_truth.hpp"
+#include "x2car/io/pose_file.hpp"
 #include "x2car/io/text_lines.hpp"
 #include "x2car/sim/simulation.hpp"
 
@@ -24,7 +28,38 @@ struct SimulateArguments {
   std::string ins_preset = "rtk";
   std::string lidar_format = "pcd";
   int lidar_beams = 64;
+  std::string radar_format = "conti";
+  std::string trajectory_path;
+  std::string trajectory_format = "auto";
+  double trajectory_rate_hz = 10.0;
+  bool duration_given = false;
 };
+
+// KITTI (12 numbers a line) or TUM (8), from the first line that is not blank or a comment.
+std::string trajectory_format_of(const std::string& path) {
+  for (const io::TextLine& line : io::split_lines(io::read_text_file(path))) {
+    const std::size_t fields = io::split_fields(line.text).size();
+    if (fields == 12) return "kitti";
+    if (fields == 8) return "tum";
+    throw InputError(path, line.number, "poses",
+                     "expected KITTI poses (12 numbers a line) or TUM poses (t x y z qx qy qz qw)");
+  }
+  throw InputError(path, "no poses");
+}
+
+// The recorded path in a z-up world. KITTI times come from times.txt beside the poses when there
+// is one, else from the rate.
+std::vector<StampedPose> read_recorded_path(const SimulateArguments& arguments) {
+  const std::string& path = arguments.trajectory_path;
+  const std::string format = arguments.trajectory_format == "auto" ? trajectory_format_of(path)
+                                                                   : arguments.trajectory_format;
+  if (format == "tum") return io::read_tum_poses(path);
+  io::KittiPoseOptions options;
+  options.period = 1.0 / arguments.trajectory_rate_hz;
+  const auto times = std::filesystem::path(path).parent_path() / "times.txt";
+  if (std::filesystem::exists(times)) options.times_file = times;
+  return sim::kitti_poses_to_z_up(io::read_kitti_poses(path, options));
+}
 
 sim::SimulationOptions simulation_options(const SimulateArguments& arguments) {
   sim::SimulationOptions options;
@@ -35,8 +70,18 @@ sim::SimulationOptions simulation_options(const SimulateArguments& arguments) {
   options.ins = arguments.ins_preset == "sps" ? sim::InsOptions::sps() : sim::InsOptions::rtk();
   options.lidar.beams = arguments.lidar_beams;
   options.lidar_format = sim::lidar_file_format_from_string(arguments.lidar_format);
+  options.radar_layout = io::radar_layout_from_string(arguments.radar_format);
+  // The Delphi layout is an ESR's: its rate, field of view and 64 track ids.
+  options.radar = options.radar_layout == io::RadarLayout::kDelphi
+                      ? sim::RadarOptions::delphi_esr()
+                      : sim::RadarOptions::conti_ars408();
   if (!arguments.mounting_path.empty()) {
     options.mountings = io::read_mountings(arguments.mounting_path);
+  }
+  if (!arguments.trajectory_path.empty()) {
+    options.recorded_path = read_recorded_path(arguments);
+    // The recording's length unless --duration cuts it.
+    if (!arguments.duration_given) options.duration_s = std::numeric_limits<double>::max();
   }
   return options;
 }
@@ -52,6 +97,19 @@ void print_summary(const sim::Simulation& simulation, const std::string& out_dir
                              simulation.lidar->options.beams, simulation.lidar->options.rate_hz,
                              sim::to_string(simulation.lidar->format),
                              simulation.world.objects.size(), simulation.world.movers.size());
+  }
+  if (!simulation.radar.empty()) {
+    std::size_t detections = 0;
+    std::size_t moving = 0;
+    for (const sim::RadarScan& scan : simulation.radar) {
+      detections += scan.detections.size();
+      for (const auto& detection : scan.detections) moving += detection.is_moving ? 1 : 0;
+    }
+    std::cout << fmt::format(
+        "  radar: {} scans ({}), {} detections, {:.0f} % on moving sources\n",
+        simulation.radar.size(), io::to_string(simulation.radar_layout), detections,
+        detections == 0 ? 0.0
+                        : 100.0 * static_cast<double>(moving) / static_cast<double>(detections));
   }
   std::cout << "  true mountings (vehicle_from_sensor; x y z [m], roll pitch yaw [deg]):\n";
   for (const auto& [sensor, mounting] : truth.vehicle_from_sensor) {
@@ -81,10 +139,11 @@ RunCommand setup_simulate_command(CLI::App& command) {
       ->type_name("NAME")
       ->check(CLI::IsMember({"straight", "urban", "highway", "mixed"}))
       ->capture_default_str();
-  command.add_option("--duration", arguments->duration_s, "Seconds of driving")
-      ->type_name("SECONDS")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
+  CLI::Option* duration =
+      command.add_option("--duration", arguments->duration_s, "Seconds of driving")
+          ->type_name("SECONDS")
+          ->check(CLI::PositiveNumber)
+          ->capture_default_str();
   command.add_option("--seed", arguments->seed, "Seed of every random draw")->capture_default_str();
   command.add_option("--out", arguments->out_dir, "Folder to write (created if needed)")
       ->type_name("DIR")
@@ -117,17 +176,48 @@ RunCommand setup_simulate_command(CLI::App& command) {
       ->type_name("N")
       ->check(CLI::IsMember({32, 64, 128}))
       ->capture_default_str();
+  command
+      .add_option("--radar-format", arguments->radar_format,
+                  "Radar as conti (ARS408-like scan files), delphi (ESR-like scan files, 20 Hz) or "
+                  "generic (detections.csv)")
+      ->type_name("NAME")
+      ->check(CLI::IsMember({"conti", "delphi", "generic"}))
+      ->capture_default_str();
+  command
+      .add_option("--trajectory", arguments->trajectory_path,
+                  "Drive this recorded path (KITTI or TUM poses) instead of a generated route; "
+                  "the drive lasts the recording unless --duration cuts it")
+      ->type_name("FILE")
+      ->check(CLI::ExistingFile);
+  command
+      .add_option("--trajectory-format", arguments->trajectory_format,
+                  "kitti (12 numbers a line, camera poses: y down, z forward), tum "
+                  "(t x y z qx qy qz qw, z up) or auto (by the number of fields)")
+      ->type_name("NAME")
+      ->check(CLI::IsMember({"auto", "kitti", "tum"}))
+      ->capture_default_str();
+  command
+      .add_option("--trajectory-rate", arguments->trajectory_rate_hz,
+                  "Pose rate of a KITTI file without times.txt beside it [Hz]")
+      ->type_name("HZ")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   command.footer(
       "Writes DIR/ground_truth.yaml (every sensor's true vehicle_from_<sensor>), "
       "DIR/trajectory.csv\n"
       "(the car's true motion at 100 Hz) and each sensor's data (DIR/ins/novatel_enu.csv and\n"
-      "DIR/ins/ins.csv; DIR/lidar/<start seconds>.pcd, one per sweep); see docs/simulator.md and\n"
-      "docs/formats.md. Same arguments, same bytes.\n"
+      "DIR/ins/ins.csv; DIR/lidar/<start seconds>.pcd, one per sweep; DIR/radar/, one file per\n"
+      "scan, and DIR/radar_truth.csv); see docs/simulator.md and docs/formats.md. Same arguments,\n"
+      "same bytes.\n"
       "\n"
       "Example:\n"
       "  x2car simulate --scenario urban --duration 120 --seed 3 --out /tmp/drive\n"
-      "  x2car simulate --duration 60 --sensors ins,lidar --lidar-beams 32 --out /tmp/lidar");
-  return [arguments] { return run_simulate(*arguments); };
+      "  x2car simulate --duration 60 --sensors ins,lidar --lidar-beams 32 --out /tmp/lidar\n"
+      "  x2car simulate --duration 60 --sensors ins,radar --radar-format delphi --out /tmp/radar");
+  return [arguments, duration] {
+    arguments->duration_given = duration->count() > 0;
+    return run_simulate(*arguments);
+  };
 }
 
 }  // namespace x2car::cli

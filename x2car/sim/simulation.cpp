@@ -1,5 +1,7 @@
 #include "x2car/sim/simulation.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -19,21 +21,54 @@ constexpr std::uint64_t kInsNoiseStream = 201;
 constexpr std::uint64_t kMotionStream = 301;
 constexpr std::uint64_t kWorldStream = 401;
 constexpr std::uint64_t kLidarNoiseStream = 501;
+constexpr std::uint64_t kRadarMountingStream = 102;
+constexpr std::uint64_t kRadarNoiseStream = 601;
 
 constexpr const char* kTrajectoryFile = "trajectory.csv";
 
-// Where each sensor sits on a car, as ranges of its lever arm in V [m] (origin on the road under
-// the rear axle).
-struct LeverArmRange {
-  double x_min, x_max, y_min, y_max, z_min, z_max;
+// Where each sensor sits on a car: ranges of its lever arm in V [m] (origin on the road under the
+// rear axle) and the largest roll and pitch [deg] it is fitted with.
+struct MountingRange {
+  double x_min, x_max, y_min, y_max, z_min, z_max, max_tilt_deg;
 };
 
-LeverArmRange lever_arm_range(const std::string& sensor) {
-  if (sensor == "ins") return {0.0, 1.5, -0.3, 0.3, 0.8, 1.4};     // centre console to boot
-  if (sensor == "lidar") return {0.8, 1.8, -0.2, 0.2, 1.5, 2.2};   // roof
-  if (sensor == "radar") return {3.4, 3.9, -0.2, 0.2, 0.4, 0.7};   // front bumper
-  if (sensor == "camera") return {1.5, 2.0, -0.2, 0.2, 1.2, 1.5};  // behind the windscreen
+MountingRange mounting_range(const std::string& sensor) {
+  if (sensor == "ins") return {0.0, 1.5, -0.3, 0.3, 0.8, 1.4, 3.0};     // centre console to boot
+  if (sensor == "lidar") return {0.8, 1.8, -0.2, 0.2, 1.5, 2.2, 3.0};   // roof
+  if (sensor == "radar") return {3.5, 3.9, -0.2, 0.2, 0.4, 0.6, 1.0};   // front bumper
+  if (sensor == "camera") return {1.5, 2.0, -0.2, 0.2, 1.2, 1.5, 3.0};  // behind the windscreen
   throw std::invalid_argument("no mounting model for sensor '" + sensor + "'");
+}
+
+// The drawn mounting of every simulated sensor. The GNSS/INS and the LiDAR share the first stream,
+// drawn in that order whichever of them is simulated; every later sensor has a stream of its own,
+// so that adding a sensor changes no other's mounting.
+io::SensorMountings draw_mountings(std::uint64_t seed) {
+  io::SensorMountings drawn;
+  Random shared(Random::derive_seed(seed, kMountingStream));
+  drawn["ins"] = draw_mounting("ins", shared);
+  drawn["lidar"] = draw_mounting("lidar", shared);
+  Random radar(Random::derive_seed(seed, kRadarMountingStream));
+  drawn["radar"] = draw_mounting("radar", radar);
+  return drawn;
+}
+
+const char* to_string(RadarSource source) {
+  switch (source) {
+    case RadarSource::kTarget:
+      return "target";
+    case RadarSource::kGhost:
+      return "ghost";
+    case RadarSource::kClutter:
+      return "clutter";
+  }
+  return "unknown";
+}
+
+void create_folder(const std::filesystem::path& folder) {
+  std::error_code error;
+  std::filesystem::create_directories(folder, error);
+  if (error) throw InputError(folder.string(), "cannot create the folder: " + error.message());
 }
 
 io::TrajectoryRow trajectory_row(const VehicleState& state) {
@@ -41,9 +76,30 @@ io::TrajectoryRow trajectory_row(const VehicleState& state) {
           state.yaw_rate, state.path_curvature,     state.straight};
 }
 
+// The route and the car's motion on it: a generated drive, or the recorded path's (cut to the
+// duration).
+Route drive(const SimulationOptions& options, VehicleStates& states) {
+  if (options.recorded_path.empty()) {
+    const double length = route_length_for(options.scenario, options.duration_s, options.motion);
+    Route route = generate_route(options.scenario, length, options.seed, options.route);
+    states = simulate_vehicle_motion(route, options.scenario, options.duration_s, options.motion,
+                                     Random::derive_seed(options.seed, kMotionStream));
+    return route;
+  }
+  std::vector<StampedPose> poses;
+  for (const StampedPose& pose : options.recorded_path) {
+    if (pose.time - options.recorded_path.front().time > options.duration_s) break;
+    poses.push_back(pose);
+  }
+  RecordedDrive recorded = fit_recorded_drive(poses, options.recorded);
+  states = simulate_recorded_motion(recorded.route, recorded.times, recorded.arc_lengths,
+                                    options.motion);
+  return std::move(recorded.route);
+}
+
 }  // namespace
 
-std::vector<std::string> simulated_sensor_names() { return {"ins", "lidar"}; }
+std::vector<std::string> simulated_sensor_names() { return {"ins", "lidar", "radar"}; }
 
 void SimulationOptions::Check() const {
   if (!(duration_s > 0.0) || !std::isfinite(duration_s)) {
@@ -58,21 +114,36 @@ void SimulationOptions::Check() const {
           "' is not simulated; the simulated sensors are: " + io::join(known));
     }
   }
+  if (!recorded_path.empty() && scenario == Scenario::kMixed) {
+    throw std::invalid_argument(
+        "simulation: a recorded path is driven on one kind of road; choose straight, urban or "
+        "highway, not mixed");
+  }
+  recorded.Check();
   route.Check();
   motion.Check();
   ins.Check();
   world.Check();
   lidar.Check();
+  radar.Check();
+  world_radar.Check();
+  // The layouts' track id fields: Conti 0-99, Delphi 0-63.
+  const int max_ids = radar_layout == io::RadarLayout::kDelphi ? 64 : 100;
+  if (radar_layout != io::RadarLayout::kGeneric && radar.track_id_count > max_ids) {
+    throw std::invalid_argument(fmt::format(
+        "simulation: the {} radar layout holds {} track ids, radar.track_id_count is {}",
+        io::to_string(radar_layout), max_ids, radar.track_id_count));
+  }
 }
 
 io::SensorMounting draw_mounting(const std::string& sensor, Random& random) {
-  const LeverArmRange arm = lever_arm_range(sensor);
+  const MountingRange arm = mounting_range(sensor);
   io::SensorMounting mounting;
   mounting.translation = {random.uniform(arm.x_min, arm.x_max),
                           random.uniform(arm.y_min, arm.y_max),
                           random.uniform(arm.z_min, arm.z_max)};
-  mounting.rotation.roll = rad_from_deg(random.uniform(-3.0, 3.0));
-  mounting.rotation.pitch = rad_from_deg(random.uniform(-3.0, 3.0));
+  mounting.rotation.roll = rad_from_deg(random.uniform(-arm.max_tilt_deg, arm.max_tilt_deg));
+  mounting.rotation.pitch = rad_from_deg(random.uniform(-arm.max_tilt_deg, arm.max_tilt_deg));
   mounting.rotation.yaw = rad_from_deg(random.uniform(-5.0, 5.0));
   return mounting;
 }
@@ -87,44 +158,64 @@ Simulation simulate(const SimulationOptions& options) {
   truth.duration_s = options.duration_s;
   truth.trajectory_file = kTrajectoryFile;
 
-  // Every sensor's mounting is drawn, in a fixed order, whether or not it is replaced, so that a
-  // --mounting file for one sensor leaves the others as they were.
-  Random mounting_random(Random::derive_seed(options.seed, kMountingStream));
+  // Every sensor's mounting is drawn whether or not it is simulated or replaced, so that a
+  // --mounting file for one sensor or another choice of sensors leaves the others as they were.
+  const io::SensorMountings drawn = draw_mountings(options.seed);
   for (const auto& sensor : options.sensors) {
-    io::SensorMounting mounting = draw_mounting(sensor, mounting_random);
-    if (const auto given = options.mountings.find(sensor); given != options.mountings.end()) {
-      mounting = given->second;
-    }
-    truth.vehicle_from_sensor[sensor] = mounting;
+    const auto given = options.mountings.find(sensor);
+    truth.vehicle_from_sensor[sensor] =
+        given != options.mountings.end() ? given->second : drawn.at(sensor);
   }
 
-  const double length = route_length_for(options.scenario, options.duration_s, options.motion);
-  const Route route = generate_route(options.scenario, length, options.seed, options.route);
-  simulation.states =
-      simulate_vehicle_motion(route, options.scenario, options.duration_s, options.motion,
-                              Random::derive_seed(options.seed, kMotionStream));
+  const Route route = drive(options, simulation.states);
+  truth.duration_s = simulation.states.back().time;
 
   if (truth.vehicle_from_sensor.contains("ins")) {
     simulation.ins =
         simulate_ins(simulation.states, truth.vehicle_from_sensor.at("ins").vehicle_from_sensor(),
                      options.ins, Random::derive_seed(options.seed, kInsNoiseStream));
   }
-  if (truth.vehicle_from_sensor.contains("lidar")) {
+  const bool lidar = truth.vehicle_from_sensor.contains("lidar");
+  const bool radar = truth.vehicle_from_sensor.contains("radar");
+  if (lidar || radar) {  // one world, whichever sensors see it
     WorldOptions world = options.world;
     world.road.highway_lanes = options.route.plan.highway.lanes;  // the lanes the route changes
     world.road.lane_width_m = options.route.plan.highway.lane_width_m;
     simulation.world = generate_world(route, options.scenario, simulation.states, world,
                                       Random::derive_seed(options.seed, kWorldStream));
+  }
+  if (lidar) {
     simulation.lidar = LidarOutput{options.lidar, options.lidar_format,
                                    Random::derive_seed(options.seed, kLidarNoiseStream)};
+  }
+  if (radar) {
+    const RadarScene scene =
+        radar_scene_from_world(simulation.world, simulation.states.front().time,
+                               simulation.states.back().time, options.world_radar);
+    simulation.radar = simulate_radar(
+        simulation.states, truth.vehicle_from_sensor.at("radar").vehicle_from_sensor(), scene,
+        options.radar, Random::derive_seed(options.seed, kRadarNoiseStream));
+    simulation.radar_layout = options.radar_layout;
   }
   return simulation;
 }
 
+std::string format_radar_truth_csv(std::span<const RadarScan> scans) {
+  std::string text = "time,track_id,source,object_id,moving,range,azimuth,range_rate\n";
+  for (const RadarScan& scan : scans) {
+    for (const SimulatedRadarDetection& d : scan.detections) {
+      text += fmt::format(
+          "{},{},{},{},{},{}\n", io::format_number(d.measurement.time), d.measurement.track_id,
+          to_string(d.source), d.object_id, d.is_moving ? 1 : 0,
+          io::format_numbers({d.truth.range, d.truth.azimuth, d.truth.range_rate}, ","));
+    }
+  }
+  return text;
+}
+
 void write_simulation(const Simulation& simulation, const std::filesystem::path& out_dir) {
   std::error_code error;
-  std::filesystem::create_directories(out_dir, error);
-  if (error) throw InputError(out_dir.string(), "cannot create the folder: " + error.message());
+  create_folder(out_dir);
   io::write_ground_truth(out_dir / "ground_truth.yaml", simulation.truth);
 
   std::vector<io::TrajectoryRow> rows;
@@ -133,8 +224,7 @@ void write_simulation(const Simulation& simulation, const std::filesystem::path&
   io::write_trajectory_csv(out_dir / simulation.truth.trajectory_file, rows);
 
   if (!simulation.ins.empty()) {
-    std::filesystem::create_directories(out_dir / "ins", error);
-    if (error) throw InputError((out_dir / "ins").string(), "cannot create: " + error.message());
+    create_folder(out_dir / "ins");
     io::write_novatel_enu(out_dir / "ins" / "novatel_enu.csv", simulation.ins,
                           simulation.start_unix_time);
     io::write_ins_csv(out_dir / "ins" / "ins.csv", simulation.ins);
@@ -143,6 +233,14 @@ void write_simulation(const Simulation& simulation, const std::filesystem::path&
     write_simulated_lidar(simulation.world, simulation.states,
                           simulation.truth.vehicle_from_sensor.at("lidar").vehicle_from_sensor(),
                           *simulation.lidar, out_dir / "lidar");
+  }
+  if (simulation.truth.vehicle_from_sensor.contains("radar")) {
+    std::filesystem::remove_all(out_dir / "radar", error);
+    if (error) throw InputError((out_dir / "radar").string(), "cannot empty: " + error.message());
+    create_folder(out_dir / "radar");  // even when no scan has a detection
+    io::write_radar(out_dir / "radar", simulation.radar_layout,
+                    radar_measurements(simulation.radar), simulation.start_unix_time);
+    io::write_text_file(out_dir / kRadarTruthFile, format_radar_truth_csv(simulation.radar));
   }
 }
 

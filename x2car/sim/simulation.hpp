@@ -6,22 +6,27 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "x2car/io/ground_truth.hpp"
 #include "x2car/io/novatel_csv.hpp"
+#include "x2car/io/radar_csv.hpp"
 #include "x2car/sim/ins_model.hpp"
 #include "x2car/sim/lidar_writer.hpp"
+#include "x2car/sim/radar_model.hpp"
+#include "x2car/sim/recorded_drive.hpp"
 #include "x2car/sim/route.hpp"
 #include "x2car/sim/scenario.hpp"
 #include "x2car/sim/vehicle_motion.hpp"
 #include "x2car/sim/world.hpp"
+#include "x2car/sim/world_radar.hpp"
 
 namespace x2car::sim {
 
 // The sensors the simulator models so far.
-std::vector<std::string> simulated_sensor_names();  // {"ins", "lidar"}
+std::vector<std::string> simulated_sensor_names();  // {"ins", "lidar", "radar"}
 
 struct SimulationOptions {
   Scenario scenario = Scenario::kUrban;
@@ -33,10 +38,18 @@ struct SimulationOptions {
   RouteOptions route;
   VehicleMotionOptions motion;
   InsOptions ins;      // InsOptions::rtk() by default
-  WorldOptions world;  // the 3-D world, made when a sensor that sees it ("lidar") is simulated
+  WorldOptions world;  // the 3-D world, made when a sensor that sees it (lidar, radar) is simulated
   LidarOptions lidar;  // 64 beams at 10 Hz by default
   LidarFileFormat lidar_format = LidarFileFormat::kPcd;  // lidar/ as PCD, KITTI .bin or both
-  double start_unix_time = io::kDefaultStartUnixTime;    // UTC of the log's time 0 [s]
+  RadarOptions radar;  // ARS408-like by default; use RadarOptions::delphi_esr() with kDelphi
+  WorldRadarOptions world_radar;                           // how the world's objects become targets
+  io::RadarLayout radar_layout = io::RadarLayout::kConti;  // radar/ as Conti, Delphi or generic
+  double start_unix_time = io::kDefaultStartUnixTime;      // UTC of the log's time 0 [s]
+  // A recorded path to drive instead of a generated route (`--trajectory`): poses in a z-up world
+  // (KITTI's through kitti_poses_to_z_up), times increasing. The drive lasts the recording, cut
+  // to duration_s; the world is generated around it with the scenario's road (not kMixed).
+  std::vector<StampedPose> recorded_path;
+  RecordedDriveOptions recorded;
 
   void Check() const;  // throws std::invalid_argument naming the offending field
 };
@@ -45,22 +58,35 @@ struct Simulation {
   io::GroundTruth truth;
   VehicleStates states;        // the car's true motion at motion.rate_hz
   std::vector<InsSample> ins;  // empty unless "ins" was simulated
-  World world;                 // empty unless "lidar" was simulated
+  World world;                 // empty unless "lidar" or "radar" was simulated
   // Set when "lidar" was simulated. Its sweeps are made while write_simulation writes them, so
   // that a long drive never holds them all in memory.
   std::optional<LidarOutput> lidar;
+  std::vector<RadarScan> radar;  // one per scan with the detections' truth; empty without "radar"
+  io::RadarLayout radar_layout = io::RadarLayout::kConti;
   double start_unix_time = 0.0;  // UTC of time 0 [s]
 };
 
 // A plausible mounting for a sensor of a real car, drawn from `random`: yaw within +-5 deg, pitch
-// and roll within +-3 deg, and a lever arm where that sensor usually sits.
+// and roll within +-3 deg (a radar's within +-1 deg: it is aligned to the road when fitted), and a
+// lever arm where that sensor usually sits.
 io::SensorMounting draw_mounting(const std::string& sensor, Random& random);
 
 Simulation simulate(const SimulationOptions& options);
 
 // Writes the simulation as the folder layout of docs/formats.md:
-//   ground_truth.yaml, trajectory.csv, ins/novatel_enu.csv, ins/ins.csv, lidar/ (lidar_writer.hpp)
+//   ground_truth.yaml, trajectory.csv, ins/novatel_enu.csv, ins/ins.csv, lidar/ (lidar_writer.hpp),
+//   radar/ (io::write_radar in the simulation's layout; emptied first, so that a rerun leaves no
+//   stale scans) and radar_truth.csv (each detection's source)
 // Creates the folder; InputError when it cannot be written.
 void write_simulation(const Simulation& simulation, const std::filesystem::path& out_dir);
+
+// The radar detections' ground truth, one row per detection in the order of the radar's files:
+//   time,track_id,source,object_id,moving,range,azimuth,range_rate
+// time [s] on the drive's clock; source target | ghost | clutter; object_id the world object (a
+// ghost's: its target's; -1 for clutter); moving 1 when the source moves over ground; range [m],
+// azimuth [rad], range_rate [m/s] without noise.
+constexpr const char* kRadarTruthFile = "radar_truth.csv";
+std::string format_radar_truth_csv(std::span<const RadarScan> scans);
 
 }  // namespace x2car::sim

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -69,6 +70,12 @@ class Timeline {
       s_ = start + direction * profile.u[i + 1];
       stand(profile.stand_s[i + 1]);
     }
+  }
+
+  // Covers `distance` [m] forwards in `duration` [s] (> 0) at constant speed.
+  void cruise(double distance, double duration) {
+    push({t_, duration, s_, distance / duration, 0.0, 1.0});
+    s_ += distance;
   }
 
   Kinematics at(double t) const {
@@ -482,6 +489,37 @@ VehicleStates simulate_vehicle_motion(const Route& route, Scenario scenario, dou
   }
   const Timeline timeline = plan_timeline(route, scenario, duration_s, options, seed);
   return sample(route, timeline, duration_s, options);
+}
+
+VehicleStates simulate_recorded_motion(const Route& route, std::span<const double> times,
+                                       std::span<const double> arc_lengths,
+                                       const VehicleMotionOptions& options) {
+  options.Check();
+  if (times.size() < 2 || times.size() != arc_lengths.size() || times.front() != 0.0) {
+    reject("vehicle motion: a recorded pace needs >= 2 times from 0, one arc length each");
+  }
+  Timeline timeline(arc_lengths.front());
+  for (std::size_t i = 1; i < times.size(); ++i) {
+    const double dt = times[i] - times[i - 1];
+    const double ds = arc_lengths[i] - arc_lengths[i - 1];
+    if (!(dt > 0.0) || !(ds >= 0.0) || arc_lengths[i] > route.length()) {
+      reject(
+          "vehicle motion: recorded times must increase and arc lengths must not decrease "
+          "or pass the route's end (at {} s)",
+          times[i]);
+    }
+    if (ds > 0.0) {
+      timeline.cruise(ds, dt);
+    } else {
+      timeline.stand(dt);
+    }
+  }
+  const double max_curvature = route.max_abs_curvature(0.0, route.length());
+  if (std::atan(options.wheelbase_m * max_curvature) > options.max_steering_angle) {
+    reject("vehicle motion: the route's curvature {} 1/m is beyond the steering limit",
+           max_curvature);
+  }
+  return sample(route, timeline, times.back(), options);
 }
 
 }  // namespace x2car::sim

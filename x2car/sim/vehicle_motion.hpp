@@ -31,6 +31,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 
 #include "x2car/core/rotation.hpp"
 #include "x2car/sim/route.hpp"
@@ -93,5 +94,14 @@ double route_length_for(Scenario scenario, double duration_s, const VehicleMotio
 // then depend only on libm's sin, cos and atan.
 VehicleStates simulate_vehicle_motion(const Route& route, Scenario scenario, double duration_s,
                                       const VehicleMotionOptions& options, std::uint64_t seed);
+
+// The car driving `route` at a recorded pace (`--trajectory`, recorded_drive.hpp): at times[i]
+// [s] (from 0, increasing) it is at arc_lengths[i] [m] (non-decreasing, within the route), at
+// constant speed in between; sampled at options.rate_hz to times.back(). The body's roll and pitch
+// follow the accelerations as in simulate_vehicle_motion. Throws std::invalid_argument on bad
+// input or a route the car cannot steer.
+VehicleStates simulate_recorded_motion(const Route& route, std::span<const double> times,
+                                       std::span<const double> arc_lengths,
+                                       const VehicleMotionOptions& options);
 
 }  // namespace x2car::sim

@@ -160,8 +160,11 @@ struct RoadsideOptions {
 };
 
 struct TrafficOptions {
-  double oncoming_cars_per_km = 10.0;          // urban, in the opposite lane
-  double cyclists_per_km = 4.0;                // urban, in the right-hand bike lane, riding our way
+  // Urban densities give a radar about a third of its detections on moving objects (issue 6 asks
+  // for >= 30 %): 34-39 % on 60 s urban drives, seeds 1-5 (10 and 4 per km gave 7-16 %). That is
+  // busy town traffic: 50 cars per km at 40 km/h is ~2000 cars an hour.
+  double oncoming_cars_per_km = 50.0;          // urban, in the opposite lane
+  double cyclists_per_km = 12.0;               // urban, in the right-hand bike lane, riding our way
   double highway_cars_per_km_lane = 6.0;       // per lane of each highway carriageway
   double urban_min_speed_mps = 25.0 / 3.6;     // cars [m/s]
   double urban_max_speed_mps = 50.0 / 3.6;     // [m/s]
