@@ -74,8 +74,9 @@ RunCommand setup_calibrate_radar_command(CLI::App& command) {
       ->capture_default_str();
   command
       .add_option("--method", arguments->method,
-                  "velocity (Doppler of static targets), position (not implemented yet) or auto "
-                  "(velocity for now)")
+                  "velocity (Doppler of static targets), position (triangles of tracked static "
+                  "objects over straight stretches; needs track ids) or auto (both; reports the "
+                  "one chosen by agreement and support, and why)")
       ->type_name("NAME")
       ->check(CLI::IsMember({"auto", "velocity", "position"}))
       ->capture_default_str();
@@ -91,7 +92,9 @@ RunCommand setup_calibrate_radar_command(CLI::App& command) {
   add_output_options(command, arguments->output);
   command.footer(
       "Roll and pitch are not observable by a 2-D radar and are reported as null. The yaw is "
-      "relative to the car's direction of motion. See docs/methods.md.\n"
+      "relative to the car's direction of motion. With --method auto the result's `method` names "
+      "the method reported, its note says why, and `diagnostics`/`support` hold both methods' "
+      "yaw, standard error and support (velocity_*, position_*). See docs/methods.md.\n"
       "\n"
       "Example:\n"
       "  x2car calibrate radar --input drive/radar --ins drive/ins/novatel_enu.csv --out "

@@ -318,4 +318,41 @@ TEST(CalibrateIns, BadInputExitsWithTwoNamingTheFileAndLine) {
 }
 
 }  // namespace
+namespace {
+
+// calibrate radar --method position and auto on a simulated drive (Conti layout, issue 6).
+TEST(CalibrateRadar, PositionAndAutoMethods) {
+  const auto folder = std::filesystem::path(::testing::TempDir()) / "cli_calibrate_radar_methods";
+  std::filesystem::remove_all(folder);
+  const CliRun simulate = run_x2car("simulate --scenario urban --duration 60 --seed 4 " +
+                                    std::string("--sensors ins,radar --out ") + folder.string());
+  ASSERT_EQ(simulate.exit_code, 0) << simulate.output;
+  std::ifstream truth_file(folder / "ground_truth.yaml");
+  const std::string truth((std::istreambuf_iterator<char>(truth_file)),
+                          std::istreambuf_iterator<char>());
+  const double true_yaw_deg = number_after(truth, "vehicle_from_radar:", "yaw") * 180.0 / M_PI;
+  const std::string lever_arm = std::to_string(number_after(truth, "vehicle_from_radar:", "x")) +
+                                " " +
+                                std::to_string(number_after(truth, "vehicle_from_radar:", "y"));
+  const std::string inputs = "calibrate radar --input " + (folder / "radar").string() + " --ins " +
+                             (folder / "ins/novatel_enu.csv").string() + " --lever-arm " +
+                             lever_arm;
+
+  const auto json = folder / "position.json";
+  const CliRun position = run_x2car(inputs + " --method position --out " + json.string());
+  ASSERT_EQ(position.exit_code, 0) << position.output;
+  EXPECT_THAT(position.output, HasSubstr("method position"));
+  std::ifstream result_file(json);
+  const std::string result((std::istreambuf_iterator<char>(result_file)),
+                           std::istreambuf_iterator<char>());
+  EXPECT_THAT(result, HasSubstr("\"static_objects\""));
+  EXPECT_NEAR(number_after(result, "", "\"yaw_deg\""), true_yaw_deg, 0.2) << result;
+
+  const CliRun automatic = run_x2car(inputs + " --method auto");
+  ASSERT_EQ(automatic.exit_code, 0) << automatic.output;
+  EXPECT_THAT(automatic.output, HasSubstr("note: auto: "));
+  EXPECT_THAT(automatic.output, HasSubstr("reported the "));
+}
+
+}  // namespace
 }  // namespace x2car::cli

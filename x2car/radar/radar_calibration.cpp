@@ -5,11 +5,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <future>
 #include <map>
 #include <stdexcept>
 
 #include "x2car/core/robust_stats.hpp"
+#include "x2car/radar/radar_auto.hpp"
 #include "x2car/radar/radar_ego_motion.hpp"
+#include "x2car/radar/radar_position_method.hpp"
 #include "x2car/radar/radar_velocity_method.hpp"
 
 namespace x2car::radar {
@@ -79,32 +82,35 @@ WindowEstimates window_estimates(std::span<const RadarSample> samples,
   return estimates;
 }
 
-CalibrationResult insufficient(std::string reason, const GatedSamples& gated) {
+CalibrationResult insufficient_velocity(std::string reason) {
   CalibrationResult result = insufficient_data("radar", std::move(reason));
   result.method = "velocity";
-  result.rejections = {{"outside_ins_span", gated.outside_ins_span},
-                       {"slow", gated.slow},
-                       {"turning", gated.turning},
-                       {"too_close", gated.too_close}};
   return result;
+}
+
+// The gate's counts go into every result, whichever method made it.
+void add_gate_rejections(CalibrationResult& result, const GatedSamples& gated) {
+  result.rejections["outside_ins_span"] = gated.outside_ins_span;
+  result.rejections["slow"] = gated.slow;
+  result.rejections["turning"] = gated.turning;
+  result.rejections["too_close"] = gated.too_close;
 }
 
 CalibrationResult velocity_method(const GatedSamples& gated,
                                   const RadarVelocityMethodOptions& options) {
   const std::vector<RadarSample>& samples = gated.samples;
   if (static_cast<int>(samples.size()) < options.min_static_points) {
-    return insufficient(
+    return insufficient_velocity(
         fmt::format("only {} radar detections taken while the car moved straight at >= the "
                     "minimum speed (fastest {:.1f} m/s); need {}",
-                    samples.size(), gated.max_speed_mps, options.min_static_points),
-        gated);
+                    samples.size(), gated.max_speed_mps, options.min_static_points));
   }
   const CoarseSearch coarse = coarse_yaw_search(samples, options);
   const VelocityFit fit = refine_yaw(samples, coarse.yaw, options);
   if (!fit.ok || fit.static_count < options.min_static_points) {
-    return insufficient(fmt::format("only {} detections fit the static-target model; need {}",
-                                    fit.static_count, options.min_static_points),
-                        gated);
+    return insufficient_velocity(
+        fmt::format("only {} detections fit the static-target model; need {}", fit.static_count,
+                    options.min_static_points));
   }
   const WindowEstimates windows = window_estimates(samples, fit.static_mask, fit.yaw, options);
 
@@ -137,11 +143,7 @@ CalibrationResult velocity_method(const GatedSamples& gated,
   result.support = {{"detections", static_cast<std::int64_t>(samples.size())},
                     {"static_detections", fit.static_count},
                     {"windows", static_cast<std::int64_t>(windows.yaws.size()) - outlier_windows}};
-  result.rejections = {{"outside_ins_span", gated.outside_ins_span},
-                       {"slow", gated.slow},
-                       {"turning", gated.turning},
-                       {"too_close", gated.too_close},
-                       {"not_static", static_cast<std::int64_t>(samples.size()) - fit.static_count},
+  result.rejections = {{"not_static", static_cast<std::int64_t>(samples.size()) - fit.static_count},
                        {"outlier_windows", outlier_windows}};
   result.diagnostics = {{"coarse_yaw_deg", deg_from_rad(coarse.yaw)},
                         {"coarse_consistent_fraction", static_cast<double>(coarse.consistent) /
@@ -202,6 +204,38 @@ void RadarCalibrationOptions::Check() const {
   require(min_range_m >= 0.0, "min_range_m must be >= 0");
   require(yaw_rate_window_s > 0.0, "yaw_rate_window_s must be > 0");
   velocity.Check();
+  position.Check();
+  automatic.Check();
+}
+
+void RadarPositionMethodOptions::Check() const {
+  straight.Check();
+  require(max_track_gap_s > 0.0, "position.max_track_gap_s must be > 0");
+  require(max_range_jump_m > 0.0, "position.max_range_jump_m must be > 0");
+  require(max_relative_speed_mps >= 0.0, "position.max_relative_speed_mps must be >= 0");
+  require(min_observations >= 2, "position.min_observations must be >= 2");
+  require(min_baseline_m > 0.0, "position.min_baseline_m must be > 0");
+  require(max_pair_turn >= 0.0 && max_pair_turn_with_lever_arm >= 0.0,
+          "position.max_pair_turn* must be >= 0");
+  require(range_sigma_m > 0.0, "position.range_sigma_m must be > 0");
+  require(azimuth_sigma > 0.0, "position.azimuth_sigma must be > 0");
+  require(odometry_sigma_fraction >= 0.0, "position.odometry_sigma_fraction must be >= 0");
+  require(triangle_sigmas > 0.0, "position.triangle_sigmas must be > 0");
+  require(min_static_fraction > 0.0 && min_static_fraction <= 1.0,
+          "position.min_static_fraction must be in (0, 1]");
+  require(min_confidence >= 0.0 && min_confidence < 1.0,
+          "position.min_confidence must be in [0, 1)");
+  require(min_abs_cos > 0.0 && min_abs_cos <= 1.0, "position.min_abs_cos must be in (0, 1]");
+  require(outlier_sigmas > 0.0, "position.outlier_sigmas must be > 0");
+  require(min_static_objects >= 1, "position.min_static_objects must be >= 1");
+  require(min_pairs >= 2, "position.min_pairs must be >= 2");
+  require(min_objects_for_spread >= 2, "position.min_objects_for_spread must be >= 2");
+}
+
+void RadarAutoOptions::Check() const {
+  require(agreement_sigmas > 0.0, "automatic.agreement_sigmas must be > 0");
+  require(agreement_floor >= 0.0, "automatic.agreement_floor must be >= 0");
+  require(min_position_objects >= 1, "automatic.min_position_objects must be >= 1");
 }
 
 CalibrationResult calibrate_radar(std::span<const io::RadarDetection> detections,
@@ -209,23 +243,46 @@ CalibrationResult calibrate_radar(std::span<const io::RadarDetection> detections
                                   const RadarCalibrationOptions& options) {
   options.Check();
   const auto start = std::chrono::steady_clock::now();
-  if (options.method == RadarMethod::kPosition) {
+  if (ins.size() < 2) {
     CalibrationResult result = insufficient_data(
-        "radar", "the position method is not implemented yet; use --method velocity or auto");
-    result.method = "position";
+        "radar", fmt::format("need at least 2 GNSS/INS records, got {}", ins.size()));
+    result.method = to_string(options.method);
     return result;
   }
-  if (ins.size() < 2) {
-    return insufficient_data("radar",
-                             fmt::format("need at least 2 GNSS/INS records, got {}", ins.size()));
+  const RadarEgoMotion motion =
+      radar_ego_motion(detections, ins, options.lever_arm_in_vehicle, options.yaw_rate_window_s);
+  const GatedSamples gated = gate_samples(motion, options);
+  const auto by_velocity = [&] { return velocity_method(gated, options.velocity); };
+  const auto by_position = [&] {
+    if (gated.samples.empty()) {
+      CalibrationResult result = insufficient_data(
+          "radar", fmt::format("only 0 radar detections taken while the car moved at >= {:.1f} "
+                               "m/s (fastest {:.1f} m/s)",
+                               options.min_speed_mps, gated.max_speed_mps));
+      result.method = "position";
+      return result;
+    }
+    return position_method(gated.samples, motion.records, options.lever_arm_in_vehicle,
+                           options.position);
+  };
+  CalibrationResult result;
+  switch (options.method) {
+    case RadarMethod::kVelocity:
+      result = by_velocity();
+      break;
+    case RadarMethod::kPosition:
+      result = by_position();
+      break;
+    case RadarMethod::kAuto: {
+      // The two methods share only read-only inputs; running the position method beside the
+      // velocity method keeps auto within the time of the slower one.
+      std::future<CalibrationResult> position = std::async(std::launch::async, by_position);
+      CalibrationResult velocity = by_velocity();
+      result = choose_radar_method(std::move(velocity), position.get(), options.automatic);
+      break;
+    }
   }
-  const GatedSamples gated = gate_samples(
-      radar_ego_motion(detections, ins, options.lever_arm_in_vehicle, options.yaw_rate_window_s),
-      options);
-  CalibrationResult result = velocity_method(gated, options.velocity);
-  if (options.method == RadarMethod::kAuto && result.ok()) {
-    result.reason = "auto: velocity method (the position method is not implemented yet)";
-  }
+  add_gate_rejections(result, gated);
   if (gated.outside_ins_span > 0 && !result.ok()) {
     result.reason +=
         fmt::format(" ({} detections outside the GNSS/INS time span)", gated.outside_ins_span);

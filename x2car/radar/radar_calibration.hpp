@@ -20,8 +20,12 @@
 // (windows rejected by median/MAD), never below the least-squares standard error; with fewer than
 // min_windows_for_spread windows, from the least-squares covariance alone.
 //
-// The position method (paper's triangle test on tracked objects) is not implemented yet; kAuto
-// uses the velocity method and says so in the result's reason.
+// Position method (the paper's refinement for noisy radars; radar_position_method.hpp): on straight
+// stretches, detections grouped into objects by track id; objects whose range/azimuth history is a
+// static point seen from the moving car (triangle test) give psi from pairs of observations,
+// weighted by the velocity-consistency confidence and their predicted precision.
+// kAuto runs both and reports one, chosen by agreement and support (radar_auto.hpp); the result's
+// method names it, its reason says why, and both methods' figures are in diagnostics and support.
 #pragma once
 
 #include <Eigen/Core>
@@ -31,6 +35,7 @@
 
 #include "x2car/core/calibration_result.hpp"
 #include "x2car/core/rotation.hpp"
+#include "x2car/core/segmentation.hpp"
 #include "x2car/io/ins_csv.hpp"
 #include "x2car/io/radar_csv.hpp"
 
@@ -63,6 +68,70 @@ struct RadarVelocityMethodOptions {
   void Check() const;  // throws std::invalid_argument naming the offending field
 };
 
+// The position method (radar_position_method.hpp): grouping, the triangle test, the pair estimates
+// and their combination.
+struct RadarPositionMethodOptions {
+  // Straight stretches of the drive (core/segmentation), judged at the GNSS/INS records with the
+  // curvature yaw rate / speed; both detections of a pair lie in one stretch (paper: "straight-line
+  // segments ... of sufficient length").
+  SegmentationOptions straight{.min_speed = 3.0,
+                               .max_abs_curvature = 0.01,
+                               .min_duration_s = 2.0,
+                               .max_gap_s = 0.5,
+                               .end_trim_s = 0.0};
+  // A track id is reused by the radar for another target after a break: a gap longer than this
+  // within one id, or a jump below, starts a new object [s].
+  double max_track_gap_s = 0.5;
+  // Jump: the range moves more than this beyond what the range rate explains [m], or the point
+  // moves across the line of sight faster than max_relative_speed_mps.
+  double max_range_jump_m = 1.5;
+  double max_relative_speed_mps = 70.0;  // [m/s]
+  int min_observations = 5;              // shorter tracks (clutter, most ghosts) are dropped
+  // Pairs whose radar moved less than this between the two detections are dropped: the triangle
+  // is too thin for the angle (its error grows like range noise / baseline) [m].
+  double min_baseline_m = 5.0;
+  // The car's largest turn between the two detections of a pair: without the lever arm the turn
+  // moves the radar sideways by turn x lever arm, unmodelled [rad].
+  double max_pair_turn = rad_from_deg(0.5);
+  double max_pair_turn_with_lever_arm = rad_from_deg(5.0);  // [rad]
+  // Nominal 1-sigma noise of the radar and the dead reckoning, for the triangle test's tolerance
+  // and the pairs' weights (Conti ARS408-like).
+  double range_sigma_m = 0.25;               // [m]
+  double azimuth_sigma = rad_from_deg(0.3);  // [rad]
+  double odometry_sigma_fraction = 0.01;     // of the baseline (speed scale) [-]
+  // Triangle test: a pair closes when | |apparent displacement| - baseline | <= triangle_sigmas *
+  // its predicted sigma; an object is static when at least min_static_fraction of its pairs close.
+  double triangle_sigmas = 3.0;
+  double min_static_fraction = 0.8;
+  // Velocity consistency (paper): pairs with confidence c < min_confidence are dropped. Near 90 deg
+  // off the direction of motion the Doppler says nothing about the speed; |cos| is floored there.
+  double min_confidence = 0.5;
+  double min_abs_cos = 0.2;
+  // Pair estimates more than outlier_sigmas robust sigmas (of the normalised residuals) from the
+  // weighted mean are dropped.
+  double outlier_sigmas = 3.0;
+  int min_static_objects = 5;      // fewer: insufficient data
+  int min_pairs = 20;              // fewer: insufficient data
+  int min_objects_for_spread = 5;  // fewer: the standard error from the pairs' spread alone
+
+  void Check() const;  // throws std::invalid_argument naming the offending field
+};
+
+// How --method auto chooses (radar_calibration.cpp, docs/methods.md).
+struct RadarAutoOptions {
+  // The methods agree when |yaw_velocity - yaw_position| <= agreement_sigmas * sqrt(se_v^2 +
+  // se_p^2)
+  // + agreement_floor; then the one with the smaller standard error is reported.
+  double agreement_sigmas = 3.0;
+  double agreement_floor = rad_from_deg(0.1);  // model errors the standard errors miss [rad]
+  // When they disagree the Doppler is suspect (noisy or biased range rates, a speed scale error,
+  // a time offset: the paper's reason for the position method), and the position method is
+  // reported if at least this many static objects support it; otherwise the velocity method.
+  int min_position_objects = 10;
+
+  void Check() const;  // throws std::invalid_argument naming the offending field
+};
+
 struct RadarCalibrationOptions {
   RadarMethod method = RadarMethod::kAuto;
   // The radar's position on the car, t_V_R's x and y [m]. When given, the radar's velocity
@@ -76,6 +145,8 @@ struct RadarCalibrationOptions {
   // The yaw rate is the slope of the INS yaw over this window (radar_ego_motion.hpp) [s].
   double yaw_rate_window_s = 1.0;
   RadarVelocityMethodOptions velocity;
+  RadarPositionMethodOptions position;
+  RadarAutoOptions automatic;
 
   void Check() const;  // throws std::invalid_argument naming the offending field
 };

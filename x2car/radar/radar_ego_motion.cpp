@@ -9,11 +9,6 @@
 namespace x2car::radar {
 namespace {
 
-struct CarMotion {
-  double speed_mps = 0.0;  // signed, along the car's x axis
-  double yaw_rate = 0.0;   // [rad/s]
-};
-
 bool has_device_velocity(std::span<const io::InsRecord> ins) {
   return std::any_of(ins.begin(), ins.end(),
                      [](const io::InsRecord& r) { return r.velocity_enu.head<2>().norm() > 0.0; });
@@ -69,9 +64,9 @@ double yaw_rate_at(std::span<const io::InsRecord> ins, std::span<const double> y
 // radar's plane); negative when it points backwards relative to the INS's x axis (the INS mounting
 // yaw is a few degrees, far from 90).
 std::vector<CarMotion> car_motion_at_records(std::span<const io::InsRecord> ins,
+                                             std::span<const double> yaw,
                                              double yaw_rate_window_s) {
   const bool device_velocity = has_device_velocity(ins);
-  const std::vector<double> yaw = unwrapped_yaw(ins);
   std::vector<CarMotion> motion(ins.size());
   for (std::size_t i = 0; i < ins.size(); ++i) {
     const auto [before, after] = neighbours(i, ins.size());
@@ -84,10 +79,27 @@ std::vector<CarMotion> car_motion_at_records(std::span<const io::InsRecord> ins,
     const bool backwards =
         speed > 0.0 && std::abs(angle_difference(std::atan2(velocity_enu.y(), velocity_enu.x()),
                                                  ins[i].attitude.yaw)) > kPi / 2.0;
+    motion[i].time = ins[i].time;
     motion[i].speed_mps = backwards ? -speed : speed;
     motion[i].yaw_rate = yaw_rate_at(ins, yaw, i, yaw_rate_window_s / 2.0);
   }
   return motion;
+}
+
+// The car's path integrated from its speed and the INS yaw (trapezoidal rule), in the frame of the
+// INS yaw (radar_ego_motion.hpp): what matters is the path's shape between two detections, which
+// the 100 Hz yaw gives without the GNSS position's noise and without knowing the INS mounting.
+std::vector<Eigen::Vector2d> dead_reckoning(std::span<const CarMotion> motion,
+                                            std::span<const double> yaw) {
+  std::vector<Eigen::Vector2d> odometry(motion.size(), Eigen::Vector2d::Zero());
+  for (std::size_t i = 1; i < motion.size(); ++i) {
+    const Eigen::Vector2d before =
+        motion[i - 1].speed_mps * Eigen::Vector2d(std::cos(yaw[i - 1]), std::sin(yaw[i - 1]));
+    const Eigen::Vector2d after =
+        motion[i].speed_mps * Eigen::Vector2d(std::cos(yaw[i]), std::sin(yaw[i]));
+    odometry[i] = odometry[i - 1] + 0.5 * (motion[i].time - motion[i - 1].time) * (before + after);
+  }
+  return odometry;
 }
 
 }  // namespace
@@ -99,8 +111,11 @@ RadarEgoMotion radar_ego_motion(std::span<const io::RadarDetection> detections,
   if (ins.size() < 2) {
     throw std::invalid_argument("radar_ego_motion: need at least 2 GNSS/INS records");
   }
-  const std::vector<CarMotion> motion = car_motion_at_records(ins, yaw_rate_window_s);
+  const std::vector<double> yaw = unwrapped_yaw(ins);
   RadarEgoMotion result;
+  result.records = car_motion_at_records(ins, yaw, yaw_rate_window_s);
+  const std::vector<CarMotion>& motion = result.records;
+  const std::vector<Eigen::Vector2d> odometry = dead_reckoning(motion, yaw);
   result.samples.reserve(detections.size());
   for (const io::RadarDetection& detection : detections) {
     if (!(detection.time >= ins.front().time && detection.time <= ins.back().time)) {
@@ -118,11 +133,14 @@ RadarEgoMotion radar_ego_motion(std::span<const io::RadarDetection> detections,
     RadarSample sample;
     sample.time = detection.time;
     sample.track_id = detection.track_id;
+    sample.new_track = detection.new_track;
     sample.range = detection.range;
     sample.azimuth = detection.azimuth;
     sample.range_rate = detection.range_rate;
     sample.car_speed_mps = std::lerp(motion[before].speed_mps, motion[after].speed_mps, fraction);
     sample.yaw_rate = std::lerp(motion[before].yaw_rate, motion[after].yaw_rate, fraction);
+    sample.ins_yaw_unwrapped = std::lerp(yaw[before], yaw[after], fraction);
+    sample.odometry = odometry[before] + fraction * (odometry[after] - odometry[before]);
     // v_radar = v_car + omega x t_V_R, with v_car = (s, 0) (non-holonomic).
     sample.radar_velocity_in_vehicle = {sample.car_speed_mps, 0.0};
     if (lever_arm_in_vehicle) {

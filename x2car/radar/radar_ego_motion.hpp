@@ -33,6 +33,7 @@ namespace x2car::radar {
 struct RadarSample {
   double time = 0.0;  // [s] on the GNSS/INS log's clock
   int track_id = io::kNoTrackId;
+  bool new_track = false;      // the radar's first report of this track (io::RadarDetection)
   double range = 0.0;          // [m]
   double azimuth = 0.0;        // in the radar frame, counter-clockwise positive [rad]
   double range_rate = 0.0;     // negative approaching [m/s]
@@ -40,6 +41,20 @@ struct RadarSample {
   double yaw_rate = 0.0;       // of the car, positive turning left [rad/s]
   // The radar's velocity over ground in the vehicle frame [m/s].
   Eigen::Vector2d radar_velocity_in_vehicle = Eigen::Vector2d::Zero();
+  // For the position method: the INS yaw unwrapped over the whole log [rad], and the car's path by
+  // dead reckoning, odometry(t) = integral of speed * (cos, sin)(INS yaw) dt [m]. The INS's
+  // mounting yaw beta is unknown, so both live in a frame turned by beta from ENU; beta cancels in
+  // what the position method uses: the car's displacement between two detections in the car's own
+  // frame at the first, R(-yaw(t0)) (odometry(t1) - odometry(t0)), and its turn yaw(t1) - yaw(t0).
+  double ins_yaw_unwrapped = 0.0;
+  Eigen::Vector2d odometry = Eigen::Vector2d::Zero();
+};
+
+// The car's motion at one GNSS/INS record.
+struct CarMotion {
+  double time = 0.0;       // [s]
+  double speed_mps = 0.0;  // signed, along the car's x axis [m/s]
+  double yaw_rate = 0.0;   // positive turning left [rad/s]
 };
 
 struct RadarEgoMotionCounts {
@@ -48,6 +63,7 @@ struct RadarEgoMotionCounts {
 
 struct RadarEgoMotion {
   std::vector<RadarSample> samples;  // in the detections' order
+  std::vector<CarMotion> records;    // one per GNSS/INS record, for segmenting the drive
   RadarEgoMotionCounts counts;
 };
 

@@ -16,10 +16,12 @@ struct Residual {
 
 Residual residual_at(const RadarSample& sample, double yaw) {
   const double angle = sample.azimuth + yaw;
+  const double cos_angle = std::cos(angle);
+  const double sin_angle = std::sin(angle);
   const Eigen::Vector2d& v = sample.radar_velocity_in_vehicle;
-  // predicted = -(v_x cos + v_y sin); d predicted / dpsi = v_x sin - v_y cos.
-  return {sample.range_rate - static_range_rate(sample, yaw),
-          -(v.x() * std::sin(angle) - v.y() * std::cos(angle))};
+  // predicted = -(v_x cos + v_y sin) (static_range_rate); d predicted / dpsi = v_x sin - v_y cos.
+  return {sample.range_rate + v.x() * cos_angle + v.y() * sin_angle,
+          -(v.x() * sin_angle - v.y() * cos_angle)};
 }
 
 double huber_weight(double residual, double width) {

@@ -1,0 +1,119 @@
+// Radar calibrator: accuracy against the simulator's ground truth (issue 6: truth yaw 0, 10, 20 and
+// -7 deg, urban 60 s, seeds 1-5, Conti and Delphi layouts; velocity method |error| <= 0.1 deg,
+// position method <= 0.2 deg) and speed on 10 minutes of radar (issue 6: <= 0.5 s, both methods).
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "x2car/radar/radar_calibration.hpp"
+#include "x2car/sim/radar_model.hpp"
+#include "x2car/sim/radar_scene.hpp"
+#include "x2car/sim/simulation.hpp"
+
+namespace x2car {
+namespace {
+
+// The radar on the front bumper, as in radar_calibration_test.cpp.
+const Eigen::Vector3d kLeverArm{3.6, 0.3, 0.5};
+
+struct RadarDrive {
+  sim::Simulation simulation;
+  std::vector<sim::RadarScan> scans;
+};
+
+RadarDrive radar_drive(double duration_s, std::uint64_t seed, double yaw_deg,
+                       const sim::RadarOptions& radar) {
+  sim::SimulationOptions options;
+  options.scenario = sim::Scenario::kUrban;
+  options.duration_s = duration_s;
+  options.seed = seed;
+  RadarDrive drive;
+  drive.simulation = sim::simulate(options);
+  const sim::RadarScene scene = sim::generate_radar_scene(drive.simulation.states, {}, seed + 1000);
+  const Eigen::Isometry3d vehicle_from_radar = make_transform(
+      EulerAngles{.roll = 0.0, .pitch = 0.0, .yaw = rad_from_deg(yaw_deg)}, kLeverArm);
+  drive.scans =
+      sim::simulate_radar(drive.simulation.states, vehicle_from_radar, scene, radar, seed);
+  return drive;
+}
+
+sim::RadarOptions layout(int index) {
+  return index == 0 ? sim::RadarOptions::conti_ars408() : sim::RadarOptions::delphi_esr();
+}
+
+radar::RadarCalibrationOptions calibration_options(radar::RadarMethod method) {
+  radar::RadarCalibrationOptions options;
+  options.method = method;
+  options.lever_arm_in_vehicle = kLeverArm.head<2>();
+  return options;
+}
+
+// Args: layout (0 Conti, 1 Delphi), method (1 velocity, 2 position, 0 auto). Counters: the largest
+// |error| over seeds 1-5 for each truth yaw [deg], the largest |error| / reported standard error,
+// and the smallest share of detections on moving objects.
+void BM_RadarAccuracy(benchmark::State& state) {
+  const sim::RadarOptions radar = layout(static_cast<int>(state.range(0)));
+  const auto method = static_cast<radar::RadarMethod>(state.range(1));
+  double max_error_over_std = 0.0;
+  double min_moving_share = 1.0;
+  for (auto _ : state) {
+    for (const double truth_deg : {0.0, 10.0, 20.0, -7.0}) {
+      double max_error = 0.0;
+      for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+        const RadarDrive drive = radar_drive(60.0, seed, truth_deg, radar);
+        const auto detections = sim::radar_measurements(drive.scans);
+        std::int64_t total = 0;
+        std::int64_t moving = 0;
+        for (const sim::RadarScan& scan : drive.scans) {
+          for (const sim::SimulatedRadarDetection& detection : scan.detections) {
+            ++total;
+            moving += detection.is_moving ? 1 : 0;
+          }
+        }
+        min_moving_share =
+            std::min(min_moving_share, static_cast<double>(moving) / static_cast<double>(total));
+        const CalibrationResult result =
+            radar::calibrate_radar(detections, drive.simulation.ins, calibration_options(method));
+        if (!result.ok()) {
+          state.SkipWithError(result.reason.c_str());
+          return;
+        }
+        const double error = std::abs(angle_difference(*result.yaw, rad_from_deg(truth_deg)));
+        max_error = std::max(max_error, deg_from_rad(error));
+        max_error_over_std = std::max(max_error_over_std, error / *result.yaw_std);
+      }
+      state.counters["max_err_deg_yaw" + std::to_string(static_cast<int>(truth_deg))] = max_error;
+    }
+  }
+  state.SetLabel(std::string(state.range(0) == 0 ? "conti" : "delphi") + " " +
+                 radar::to_string(method) + ", urban 60 s, seeds 1-5");
+  state.counters["max_err_over_std"] = max_error_over_std;
+  state.counters["min_moving_share"] = min_moving_share;
+}
+BENCHMARK(BM_RadarAccuracy)
+    ->ArgsProduct({{0, 1},
+                   {static_cast<int>(radar::RadarMethod::kVelocity),
+                    static_cast<int>(radar::RadarMethod::kPosition),
+                    static_cast<int>(radar::RadarMethod::kAuto)}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+
+// 10 minutes of Conti radar, both methods (auto).
+void BM_CalibrateRadarTenMinutes(benchmark::State& state) {
+  const RadarDrive drive = radar_drive(600.0, 1, 10.0, sim::RadarOptions::conti_ars408());
+  const auto detections = sim::radar_measurements(drive.scans);
+  for (auto _ : state) {
+    const CalibrationResult result = radar::calibrate_radar(
+        detections, drive.simulation.ins, calibration_options(radar::RadarMethod::kAuto));
+    benchmark::DoNotOptimize(result);
+  }
+  state.counters["detections"] = static_cast<double>(detections.size());
+  state.counters["per_minute"] = benchmark::Counter(
+      10.0, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_CalibrateRadarTenMinutes)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+}  // namespace x2car

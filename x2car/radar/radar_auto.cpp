@@ -1,0 +1,96 @@
+#include "x2car/radar/radar_auto.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <string>
+
+namespace x2car::radar {
+namespace {
+
+// Adds one method's figures, prefixed with its name, to the reported result.
+void add_method_summary(CalibrationResult& reported, const CalibrationResult& method) {
+  const std::string prefix = method.method + "_";
+  reported.diagnostics[prefix + "ok"] = method.ok() ? 1.0 : 0.0;
+  if (method.ok()) {
+    reported.diagnostics[prefix + "yaw_deg"] = deg_from_rad(*method.yaw);
+    reported.diagnostics[prefix + "std_deg"] = deg_from_rad(*method.yaw_std);
+  }
+  for (const auto& [name, value] : method.diagnostics) {
+    reported.diagnostics[prefix + name] = value;
+  }
+  for (const auto& [name, value] : method.support) reported.support[prefix + name] = value;
+}
+
+std::int64_t support_of(const CalibrationResult& result, const std::string& name) {
+  const auto found = result.support.find(name);
+  return found == result.support.end() ? 0 : found->second;
+}
+
+}  // namespace
+
+CalibrationResult choose_radar_method(CalibrationResult velocity, CalibrationResult position,
+                                      const RadarAutoOptions& options) {
+  if (!velocity.ok() && !position.ok()) {
+    CalibrationResult result = insufficient_data(
+        "radar",
+        fmt::format("velocity method: {}; position method: {}", velocity.reason, position.reason));
+    result.method = "auto";
+    add_method_summary(result, velocity);
+    add_method_summary(result, position);
+    return result;
+  }
+  if (!velocity.ok() || !position.ok()) {
+    CalibrationResult& chosen = velocity.ok() ? velocity : position;
+    const CalibrationResult& other = velocity.ok() ? position : velocity;
+    chosen.reason = fmt::format("auto: only the {} method found a yaw ({} method: {})",
+                                chosen.method, other.method, other.reason);
+    CalibrationResult result = chosen;
+    add_method_summary(result, velocity);
+    add_method_summary(result, position);
+    return result;
+  }
+  const double difference = angle_difference(*velocity.yaw, *position.yaw);
+  const double tolerance =
+      options.agreement_sigmas * std::hypot(*velocity.yaw_std, *position.yaw_std) +
+      options.agreement_floor;
+  const std::int64_t static_objects = support_of(position, "static_objects");
+  std::string reason;
+  bool take_position = false;
+  if (std::abs(difference) <= tolerance) {
+    take_position = *position.yaw_std < *velocity.yaw_std;
+    reason = fmt::format(
+        "auto: the velocity and position methods agree ({:.3f} vs {:.3f} deg, within {:.3f}); "
+        "reported the {} method, whose standard error is smaller ({:.3f} vs {:.3f} deg)",
+        deg_from_rad(*velocity.yaw), deg_from_rad(*position.yaw), deg_from_rad(tolerance),
+        take_position ? "position" : "velocity",
+        deg_from_rad(take_position ? *position.yaw_std : *velocity.yaw_std),
+        deg_from_rad(take_position ? *velocity.yaw_std : *position.yaw_std));
+  } else {
+    take_position = static_objects >= options.min_position_objects;
+    reason = fmt::format(
+        "auto: the methods disagree (velocity {:.3f}, position {:.3f} deg, {:.3f} apart, more than "
+        "{:.3f}); reported the {} method: {}",
+        deg_from_rad(*velocity.yaw), deg_from_rad(*position.yaw),
+        deg_from_rad(std::abs(difference)), deg_from_rad(tolerance),
+        take_position ? "position" : "velocity",
+        take_position
+            ? fmt::format("{} static objects support it and the Doppler is the likelier culprit "
+                          "(noisy range rates, a speed scale error or a time offset)",
+                          static_objects)
+            : fmt::format("only {} static objects support the position method (need {})",
+                          static_objects, options.min_position_objects));
+  }
+  CalibrationResult result = take_position ? position : velocity;
+  result.reason = reason;
+  add_method_summary(result, velocity);
+  add_method_summary(result, position);
+  result.diagnostics["methods_difference_deg"] = deg_from_rad(difference);
+  result.diagnostics["methods_tolerance_deg"] = deg_from_rad(tolerance);
+  for (const Series& series : (take_position ? velocity : position).series) {
+    result.series.push_back(series);
+  }
+  return result;
+}
+
+}  // namespace x2car::radar

@@ -1,0 +1,84 @@
+// The position method's steps (radar_calibration.hpp; paper §III-D, "Refined calibration" with the
+// vehicle position): straight stretches, objects grouped by track id, the triangle test, a yaw from
+// each pair of observations of a static object, the velocity-consistency confidence, and the robust
+// weighted mean. Internal to x2car::radar.
+//
+// Geometry of one pair, exact (no small-angle shortcut). Observations 0 and 1 of one object at
+// ranges l0, l1 and azimuths th0, th1; between them the car turned by dh (INS yaw difference) and
+// the radar moved by b in the car's frame at observation 0:
+//   b = R(-yaw_ins(t0)) (odometry(t1) - odometry(t0)) + (R(dh) - I) t_V_R      (lever arm if given)
+// A static point p in that frame satisfies p = R(psi) l0 u(th0) = b + R(dh) R(psi) l1 u(th1), so
+//   w := l0 u(th0) - l1 u(th1 + dh) = R(-psi) b,   u(a) = (cos a, sin a).
+// w is the point's apparent displacement seen from the radar (reversed), in radar coordinates.
+//   Triangle test: the triangle of the two lines of sight and the baseline closes, |w| = |b| (the
+//     paper's law-of-cosines test, written for the side |w|^2 = l0^2 + l1^2 - 2 l0 l1 cos(th0 - th1
+//     - dh) instead of the angle, which is ill-conditioned when the angle is small: far targets,
+//     targets dead ahead). A moving object's w also holds its own displacement and fails.
+//   Yaw:  psi = atan2(b) - atan2(w), the exact form of the paper's psi1/psi2 (which take the angles
+//     at the two ends from the ranges alone, unstable near dead ahead); defined whenever |w| > 0.
+//   Confidence (paper): c = 1 - |v_r - v_r,static(psi)| / max(|v_r,static(psi)|, min_abs_cos |v|),
+//     the relative error of the speed the Doppler implies, v_r,static the static-target range rate
+//     of the radar's own velocity v (radar_velocity_method.hpp); averaged over the two
+//     observations.
+//   Weight: c / var(psi), var(psi) = var(w perpendicular to w) / |w|^2 from the nominal range and
+//     azimuth noise.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "x2car/core/calibration_result.hpp"
+#include "x2car/radar/radar_calibration.hpp"
+#include "x2car/radar/radar_ego_motion.hpp"
+
+namespace x2car::radar {
+
+// One object: the detections of one track id between breaks, in one straight stretch.
+struct RadarObject {
+  int track_id = io::kNoTrackId;
+  std::vector<std::size_t> indices;  // into the samples, in time order
+};
+
+struct ObjectGrouping {
+  std::vector<RadarObject> objects;  // every group, short ones included
+  std::int64_t no_track_id = 0;      // detections without a track id
+  std::int64_t off_straight = 0;     // detections outside the straight stretches
+};
+
+// `segment_of_sample`: the straight stretch each sample lies in, -1 for none. Samples in time
+// order.
+ObjectGrouping group_objects(std::span<const RadarSample> samples,
+                             std::span<const int> segment_of_sample,
+                             const RadarPositionMethodOptions& options);
+
+struct PairEstimate {
+  bool defined = false;     // false: no baseline or no apparent displacement (car standing: 0/0)
+  double baseline_m = 0.0;  // |b| [m]
+  double turn = 0.0;        // dh [rad]
+  double closure_m = 0.0;   // |w| - |b| [m]
+  double closure_sigma_m = 0.0;  // its predicted sigma [m]
+  double yaw = 0.0;              // psi, in (-pi, pi] [rad]
+  double yaw_sigma = 0.0;        // its predicted sigma [rad]
+  double confidence = 0.0;       // c, clamped to [0, 1]
+};
+
+// The triangle of observations `first` and `second` (later) of one object.
+PairEstimate estimate_pair(const RadarSample& first, const RadarSample& second,
+                           const std::optional<Eigen::Vector2d>& lever_arm_in_vehicle,
+                           const RadarPositionMethodOptions& options);
+
+// The paper's velocity-consistency confidence of one observation under yaw `yaw`, in [0, 1].
+double velocity_confidence(const RadarSample& sample, double yaw,
+                           const RadarPositionMethodOptions& options);
+
+// The whole method on gated samples (time order) with the per-record motion for the straight
+// stretches. Returns a result with method "position": ok, or insufficient data with a reason.
+CalibrationResult position_method(std::span<const RadarSample> samples,
+                                  std::span<const CarMotion> records,
+                                  const std::optional<Eigen::Vector2d>& lever_arm_in_vehicle,
+                                  const RadarPositionMethodOptions& options);
+
+}  // namespace x2car::radar

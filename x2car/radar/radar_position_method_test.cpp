@@ -1,0 +1,298 @@
+#include "x2car/radar/radar_position_method.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "x2car/radar/radar_auto.hpp"
+#include "x2car/radar/radar_calibration.hpp"
+#include "x2car/radar/radar_ego_motion.hpp"
+#include "x2car/radar/radar_test_drives.hpp"
+
+namespace x2car::radar {
+namespace {
+
+using testing::ConstructedTarget;
+using ::testing::HasSubstr;
+using testing::kLeverArm;
+using ::testing::StartsWith;
+
+RadarCalibrationOptions options_for(RadarMethod method) {
+  RadarCalibrationOptions options;
+  options.method = method;
+  options.lever_arm_in_vehicle = kLeverArm.head<2>();
+  return options;
+}
+
+double yaw_error_deg(const CalibrationResult& result, double truth_deg) {
+  EXPECT_TRUE(result.ok()) << result.reason;
+  if (!result.ok()) return NAN;
+  EXPECT_TRUE(result.yaw_std && std::isfinite(*result.yaw_std) && *result.yaw_std > 0.0);
+  EXPECT_FALSE(result.roll);
+  EXPECT_FALSE(result.pitch);
+  return deg_from_rad(angle_difference(*result.yaw, rad_from_deg(truth_deg)));
+}
+
+// Issue 6: position method |error| <= 0.2 deg on urban 60 s, truth 0, 10, 20, -7 deg. The full 5
+// seeds x 2 layouts run in bench/radar_bench.cpp (measured worst: Conti 0.046 deg, Delphi 0.050
+// deg); here seeds 1-2.
+void expect_position_accuracy(const sim::RadarOptions& radar) {
+  for (const double truth_deg : {0.0, 10.0, 20.0, -7.0}) {
+    for (std::uint64_t seed = 1; seed <= 2; ++seed) {
+      SCOPED_TRACE(::testing::Message() << "truth " << truth_deg << " deg, seed " << seed);
+      const testing::Drive& drive = testing::urban_drive(seed);
+      const auto detections = testing::radar_detections(drive, truth_deg, radar, seed);
+      const CalibrationResult result =
+          calibrate_radar(detections, drive.simulation.ins, options_for(RadarMethod::kPosition));
+      EXPECT_EQ(result.method, "position");
+      EXPECT_LE(std::abs(yaw_error_deg(result, truth_deg)), 0.2);
+      if (result.ok()) {
+        EXPECT_GE(result.support.at("static_objects"), 20);
+      }
+    }
+  }
+}
+
+TEST(RadarPositionMethod, ContiMeetsTwoTenthsOfADegree) {
+  expect_position_accuracy(sim::RadarOptions::conti_ars408());
+}
+
+TEST(RadarPositionMethod, DelphiMeetsTwoTenthsOfADegree) {
+  expect_position_accuracy(sim::RadarOptions::delphi_esr());
+}
+
+// Without the lever arm only pairs over which the car barely turned are used.
+TEST(RadarPositionMethod, WithoutLeverArm) {
+  const testing::Drive& drive = testing::urban_drive(3);
+  const auto detections =
+      testing::radar_detections(drive, -7.0, sim::RadarOptions::conti_ars408(), 3);
+  RadarCalibrationOptions options;
+  options.method = RadarMethod::kPosition;
+  const CalibrationResult result = calibrate_radar(detections, drive.simulation.ins, options);
+  EXPECT_LE(std::abs(yaw_error_deg(result, -7.0)), 0.2);
+  EXPECT_GT(result.rejections.at("turning_pairs") + result.rejections.at("turning"), 0);
+}
+
+// The radar's samples of a constructed drive, as the position method sees them.
+std::vector<RadarSample> constructed_samples(const testing::ConstructedDrive& drive) {
+  return radar_ego_motion(drive.detections, drive.ins, kLeverArm.head<2>()).samples;
+}
+
+// Triangle test: a static post closes the triangle of the two lines of sight and the baseline and
+// gives the exact yaw; a car ahead driving away at 6 m/s and an oncoming car at 8 m/s do not.
+TEST(RadarPositionMethod, TriangleTestSeparatesStaticFromMoving) {
+  const double yaw = rad_from_deg(12.0);
+  const testing::ConstructedDrive drive = testing::constructed_drive(
+      10.0, 6.0, yaw,
+      {{.position = {60.0, 6.0}, .track_id = 1},
+       {.position = {30.0, 0.3}, .velocity = {6.0, 0.0}, .track_id = 2},
+       {.position = {90.0, 3.5}, .velocity = {-8.0, 0.0}, .track_id = 3, .min_range = 30.0}});
+  const std::vector<RadarSample> samples = constructed_samples(drive);
+  const RadarPositionMethodOptions options;
+  for (const int track : {1, 2, 3}) {
+    std::vector<RadarSample> track_samples;
+    for (const RadarSample& s : samples) {
+      if (s.track_id == track) track_samples.push_back(s);
+    }
+    ASSERT_GE(track_samples.size(), 20u) << "track " << track;
+    const PairEstimate pair =
+        estimate_pair(track_samples.front(), track_samples[track_samples.size() / 2],
+                      kLeverArm.head<2>(), options);
+    ASSERT_TRUE(pair.defined);
+    EXPECT_GT(pair.baseline_m, 10.0);
+    const bool closes = std::abs(pair.closure_m) <= options.triangle_sigmas * pair.closure_sigma_m;
+    SCOPED_TRACE(::testing::Message() << "track " << track << " closure " << pair.closure_m);
+    if (track == 1) {
+      EXPECT_TRUE(closes);
+      EXPECT_NEAR(pair.yaw, yaw, 1e-6);
+      EXPECT_NEAR(pair.confidence, 1.0, 1e-6);
+    } else {
+      EXPECT_FALSE(closes);
+      EXPECT_GT(std::abs(pair.closure_m), 5.0);
+    }
+  }
+}
+
+// Several static posts along a straight road among moving cars: the method keeps the posts only.
+TEST(RadarPositionMethod, ConstructedDriveKeepsOnlyStaticObjects) {
+  std::vector<ConstructedTarget> targets;
+  for (int k = 0; k < 12; ++k) {
+    targets.push_back({.position = {40.0 + 25.0 * k, k % 2 == 0 ? -5.0 : 8.5}, .track_id = k});
+  }
+  targets.push_back({.position = {20.0, 0.3}, .velocity = {10.5, 0.0}, .track_id = 40});
+  targets.push_back({.position = {200.0, 3.5}, .velocity = {-9.0, 0.0}, .track_id = 41});
+  const testing::ConstructedDrive drive = testing::constructed_drive(10.0, 30.0, -0.1, targets);
+  RadarCalibrationOptions options = options_for(RadarMethod::kPosition);
+  options.position.min_pairs = 10;
+  const CalibrationResult result = calibrate_radar(drive.detections, drive.ins, options);
+  ASSERT_TRUE(result.ok()) << result.reason;
+  EXPECT_NEAR(*result.yaw, -0.1, 1e-6);
+  EXPECT_EQ(result.support.at("static_objects"), 12);
+  EXPECT_EQ(result.rejections.at("moving_objects"), 2);
+}
+
+// Targets dead ahead: the triangle is flat (the paper's angle test and its arccos are 0/0 there),
+// the exact form still closes it and recovers the yaw from the line of sight.
+TEST(RadarPositionMethod, TargetsDeadAhead) {
+  const double yaw = rad_from_deg(5.0);
+  std::vector<ConstructedTarget> targets;
+  for (int k = 0; k < 20; ++k) {
+    // On the radar's own line (y = the lever arm's), seen from 70 m down to 20 m.
+    targets.push_back({.position = {100.0 + 30.0 * k, 0.3}, .track_id = k, .min_range = 20.0});
+  }
+  const testing::ConstructedDrive drive = testing::constructed_drive(12.0, 60.0, yaw, targets);
+  const CalibrationResult result =
+      calibrate_radar(drive.detections, drive.ins, options_for(RadarMethod::kPosition));
+  ASSERT_TRUE(result.ok()) << result.reason;
+  EXPECT_NEAR(*result.yaw, yaw, 1e-6);
+  EXPECT_TRUE(std::isfinite(*result.yaw_std));
+}
+
+// Each target is tracked for 0.8 s at 4 m/s: pairs span under 2 m, too thin a triangle.
+TEST(RadarPositionMethod, TinyBaselinesAreInsufficientData) {
+  std::vector<ConstructedTarget> targets;
+  for (int k = 0; k < 40; ++k) {
+    targets.push_back({.position = {20.0 + 3.0 * k, -6.0},
+                       .track_id = k,
+                       .visible_from = 0.9 * k,
+                       .visible_to = 0.9 * k + 0.8});
+  }
+  const testing::ConstructedDrive drive = testing::constructed_drive(4.0, 40.0, 0.05, targets);
+  const CalibrationResult result =
+      calibrate_radar(drive.detections, drive.ins, options_for(RadarMethod::kPosition));
+  EXPECT_FALSE(result.ok());
+  EXPECT_FALSE(result.yaw);
+  EXPECT_THAT(result.reason, HasSubstr("shorter baseline"));
+  EXPECT_GT(result.rejections.at("short_baseline_pairs"), 0);
+}
+
+// A standing car: no baseline (0/0) and no Doppler; insufficient data with a reason, no NaN.
+TEST(RadarPositionMethod, StandingCarIsInsufficientData) {
+  const testing::ConstructedDrive drive =
+      testing::constructed_drive(0.0, 20.0, 0.1, {{.position = {30.0, 5.0}, .track_id = 1}});
+  for (const RadarMethod method : {RadarMethod::kPosition, RadarMethod::kAuto}) {
+    const CalibrationResult result =
+        calibrate_radar(drive.detections, drive.ins, options_for(method));
+    EXPECT_FALSE(result.ok());
+    EXPECT_FALSE(result.yaw);
+    EXPECT_THAT(result.reason, HasSubstr("fastest 0.0 m/s"));
+  }
+  const std::vector<RadarSample> samples = constructed_samples(drive);
+  ASSERT_GE(samples.size(), 2u);
+  const PairEstimate pair = estimate_pair(samples.front(), samples.back(), kLeverArm.head<2>(), {});
+  EXPECT_FALSE(pair.defined);
+  EXPECT_EQ(velocity_confidence(samples.front(), 0.1, {}), 0.0);
+}
+
+// A track id the radar hands to another target, after a gap or at once, starts a new object.
+TEST(RadarPositionMethod, ReusedTrackIdsAreSplit) {
+  const testing::ConstructedDrive drive = testing::constructed_drive(
+      10.0, 12.0, 0.0,
+      {{.position = {50.0, 5.0}, .track_id = 7, .visible_to = 3.0},
+       {.position = {90.0, -6.0}, .track_id = 7, .visible_from = 3.05, .visible_to = 6.0},
+       {.position = {150.0, 6.0}, .track_id = 7, .visible_from = 7.0}});
+  const std::vector<RadarSample> samples = constructed_samples(drive);
+  const std::vector<int> one_segment(samples.size(), 0);
+  const ObjectGrouping grouping = group_objects(samples, one_segment, {});
+  ASSERT_EQ(grouping.objects.size(), 3u);
+  for (const RadarObject& object : grouping.objects) EXPECT_GT(object.indices.size(), 20u);
+}
+
+CalibrationResult method_result(const std::string& method, double yaw_deg, double std_deg,
+                                std::int64_t static_objects) {
+  CalibrationResult result;
+  result.sensor = "radar";
+  result.method = method;
+  result.status = CalibrationStatus::kOk;
+  result.yaw = rad_from_deg(yaw_deg);
+  result.yaw_std = rad_from_deg(std_deg);
+  result.support = {{"static_objects", static_objects}};
+  return result;
+}
+
+TEST(RadarAuto, ChoosesByAgreementAndSupport) {
+  const RadarAutoOptions options;
+  // Agreeing: the smaller standard error.
+  CalibrationResult chosen =
+      choose_radar_method(method_result("velocity", 10.0, 0.03, 0),
+                          method_result("position", 10.05, 0.02, 50), options);
+  EXPECT_EQ(chosen.method, "position");
+  EXPECT_THAT(chosen.reason, HasSubstr("agree"));
+  EXPECT_DOUBLE_EQ(chosen.diagnostics.at("velocity_yaw_deg"), 10.0);
+  EXPECT_EQ(chosen.support.at("position_static_objects"), 50);
+  // Disagreeing, enough static objects: position; too few: velocity.
+  chosen = choose_radar_method(method_result("velocity", 10.0, 0.03, 0),
+                               method_result("position", 11.0, 0.05, 50), options);
+  EXPECT_EQ(chosen.method, "position");
+  EXPECT_THAT(chosen.reason, HasSubstr("disagree"));
+  chosen = choose_radar_method(method_result("velocity", 10.0, 0.03, 0),
+                               method_result("position", 11.0, 0.05, 6), options);
+  EXPECT_EQ(chosen.method, "velocity");
+  EXPECT_THAT(chosen.reason, HasSubstr("only 6 static objects"));
+  // One failing: the other, saying why.
+  CalibrationResult failed = insufficient_data("radar", "no tracks");
+  failed.method = "position";
+  chosen = choose_radar_method(method_result("velocity", 10.0, 0.03, 0), failed, options);
+  EXPECT_TRUE(chosen.ok());
+  EXPECT_THAT(chosen.reason, HasSubstr("only the velocity method"));
+  EXPECT_THAT(chosen.reason, HasSubstr("no tracks"));
+  CalibrationResult failed_velocity = insufficient_data("radar", "too slow");
+  failed_velocity.method = "velocity";
+  chosen = choose_radar_method(failed_velocity, failed, options);
+  EXPECT_FALSE(chosen.ok());
+  EXPECT_EQ(chosen.method, "auto");
+  EXPECT_THAT(chosen.reason, HasSubstr("too slow"));
+  EXPECT_THAT(chosen.reason, HasSubstr("no tracks"));
+}
+
+// On a simulated drive auto reports both methods and says which it chose.
+TEST(RadarAuto, ReportsBothMethods) {
+  const testing::Drive& drive = testing::urban_drive(2);
+  const auto detections =
+      testing::radar_detections(drive, 20.0, sim::RadarOptions::delphi_esr(), 2);
+  const CalibrationResult result =
+      calibrate_radar(detections, drive.simulation.ins, options_for(RadarMethod::kAuto));
+  EXPECT_LE(std::abs(yaw_error_deg(result, 20.0)), 0.1);
+  EXPECT_THAT(result.method, ::testing::AnyOf("velocity", "position"));
+  EXPECT_THAT(result.reason, StartsWith("auto: "));
+  EXPECT_NEAR(result.diagnostics.at("velocity_yaw_deg"), 20.0, 0.1);
+  EXPECT_NEAR(result.diagnostics.at("position_yaw_deg"), 20.0, 0.2);
+  EXPECT_GT(result.support.at("velocity_static_detections"), 1000);
+  EXPECT_GT(result.support.at("position_static_objects"), 20);
+}
+
+TEST(RadarPositionMethod, OptionsAreChecked) {
+  RadarCalibrationOptions options;
+  options.position.min_baseline_m = 0.0;
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+  options = {};
+  options.automatic.agreement_sigmas = -1.0;
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+  EXPECT_EQ(radar_method_from_string("position"), RadarMethod::kPosition);
+}
+
+// Issue 6: 10 minutes of radar calibrate in <= 0.5 s wall, both methods (auto). Simulating the
+// drive takes longer than calibrating it; only the calibration is timed.
+TEST(RadarCalibrationTiming, TenMinutesInHalfASecond) {
+  const testing::Drive& drive = testing::urban_drive(1, 600.0);
+  const auto detections =
+      testing::radar_detections(drive, 10.0, sim::RadarOptions::conti_ars408(), 1);
+  ASSERT_GT(detections.size(), 50000u);
+  const auto start = std::chrono::steady_clock::now();
+  const CalibrationResult result =
+      calibrate_radar(detections, drive.simulation.ins, options_for(RadarMethod::kAuto));
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ::testing::Test::RecordProperty("calibration_ms", static_cast<int>(seconds * 1000.0));
+  ::testing::Test::RecordProperty("detections", static_cast<int>(detections.size()));
+  ASSERT_TRUE(result.ok()) << result.reason;
+  EXPECT_EQ(result.diagnostics.at("velocity_ok"), 1.0);
+  EXPECT_EQ(result.diagnostics.at("position_ok"), 1.0);
+  EXPECT_LE(seconds, 0.5);
+  EXPECT_LE(std::abs(yaw_error_deg(result, 10.0)), 0.1);
+}
+
+}  // namespace
+}  // namespace x2car::radar
