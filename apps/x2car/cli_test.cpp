@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -199,6 +200,81 @@ TEST(Simulate, WritesLidarSweepsInTheChosenFormat) {
   EXPECT_TRUE(std::filesystem::exists(folder / "lidar/velodyne/000009.bin"));
   EXPECT_TRUE(std::filesystem::exists(folder / "lidar/times.txt"));
   EXPECT_FALSE(std::filesystem::exists(folder / "lidar/000000.000000.pcd"));
+}
+
+TEST(Simulate, CameraWritesItsIntrinsicsBesideTheIns) {
+  const auto folder = std::filesystem::path(::testing::TempDir()) / "cli_simulate_camera";
+  std::filesystem::remove_all(folder);
+  const CliRun run =
+      run_x2car("simulate --duration 2 --sensors ins,camera --out " + folder.string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("camera: 1920x1080, fx 1200 fy 1200"));
+  EXPECT_THAT(run.output, HasSubstr("    camera "));  // its true mounting
+  EXPECT_TRUE(std::filesystem::exists(folder / "ins/novatel_enu.csv"));
+  std::ifstream intrinsics(folder / "camera/intrinsics.yaml");
+  const std::string text((std::istreambuf_iterator<char>(intrinsics)),
+                         std::istreambuf_iterator<char>());
+  EXPECT_THAT(text, HasSubstr("fx: 1200\n"));
+  std::ifstream truth(folder / "ground_truth.yaml");
+  const std::string truth_text((std::istreambuf_iterator<char>(truth)),
+                               std::istreambuf_iterator<char>());
+  EXPECT_THAT(truth_text, HasSubstr("vehicle_from_camera:\n"));
+  EXPECT_THAT(truth_text, HasSubstr("vehicle_from_ins:\n"));
+}
+
+TEST(Simulate, ConfigFileSetsParametersAndOptionsWinOverIt) {
+  const auto config = write_temp_file(
+      "cli_simulate_config.yaml",
+      "ins:\n  heading_sigma_deg: 0.5\nlidar:\n  beams: 32\n  azimuth_step_deg: 2\n");
+  const auto folder = std::filesystem::path(::testing::TempDir()) / "cli_simulate_config";
+  std::filesystem::remove_all(folder);
+  const CliRun run = run_x2car("simulate --duration 1 --sensors ins,lidar --config " +
+                               config.string() + " --out " + folder.string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("lidar: 32 beams at 10 Hz"));
+  const CliRun printed = run_x2car("simulate --config " + config.string() + " --print-config");
+  ASSERT_EQ(printed.exit_code, 0) << printed.output;
+  EXPECT_THAT(printed.output, HasSubstr("  heading_sigma_deg: 0.5 "));
+  EXPECT_THAT(printed.output, HasSubstr("  beams: 32 "));
+  const CliRun explicit_beams =
+      run_x2car("simulate --config " + config.string() + " --lidar-beams 128 --print-config");
+  EXPECT_THAT(explicit_beams.output, HasSubstr("  beams: 128 "));
+  EXPECT_THAT(explicit_beams.output, HasSubstr("  heading_sigma_deg: 0.5 "));
+  // The INS noise took effect: with 0.5 deg of white heading noise, successive yaws (ins.csv's
+  // 10th column) differ by 0.5 sqrt(2) = 0.71 deg rms; the default 0.05 deg gives 0.07 deg.
+  std::ifstream ins(folder / "ins/ins.csv");
+  std::string line;
+  std::getline(ins, line);  // header
+  std::vector<double> yaws;
+  while (std::getline(ins, line)) {
+    std::replace(line.begin(), line.end(), ',', ' ');
+    const std::vector<double> fields = numbers_in(line);
+    ASSERT_EQ(fields.size(), 10u) << line;
+    yaws.push_back(fields[9]);
+  }
+  ASSERT_GT(yaws.size(), 90u);
+  double sum_squares = 0.0;
+  for (std::size_t i = 1; i < yaws.size(); ++i) {
+    sum_squares += std::pow(std::remainder(yaws[i] - yaws[i - 1], 2.0 * M_PI), 2);
+  }
+  const double rms_deg =
+      std::sqrt(sum_squares / static_cast<double>(yaws.size() - 1)) * 180.0 / M_PI;
+  EXPECT_GT(rms_deg, 0.5);
+  EXPECT_LT(rms_deg, 0.95);
+}
+
+TEST(Simulate, ConfigErrorsExitWithTwoNamingTheKey) {
+  const std::string out = " --out " + (std::filesystem::path(::testing::TempDir()) / "x").string();
+  const auto unknown = write_temp_file("cli_simulate_config_unknown.yaml", "lidar:\n  beems: 32\n");
+  const CliRun run = run_x2car("simulate --config " + unknown.string() + out);
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_THAT(run.output, HasSubstr(unknown.string()));
+  EXPECT_THAT(run.output, HasSubstr("lidar.beems"));
+  const auto wrong = write_temp_file("cli_simulate_config_type.yaml", "ins:\n  rate_hz: fast\n");
+  const CliRun type = run_x2car("simulate --config " + wrong.string() + out);
+  EXPECT_EQ(type.exit_code, 2);
+  EXPECT_THAT(type.output, HasSubstr("ins.rate_hz"));
+  EXPECT_EQ(run_x2car("simulate --duration 1").exit_code, 2);  // no --out
 }
 
 // The number after `key: ` in the text from `from` on; NAN when absent.

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "apps/x2car/exit_codes.hpp"
+#include "apps/x2car/simulation_config.hpp"
 #include "apps/x2car/subcommand.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/io/ground_truth.hpp"
@@ -32,7 +33,10 @@ struct SimulateArguments {
   std::string trajectory_path;
   std::string trajectory_format = "auto";
   double trajectory_rate_hz = 10.0;
+  std::string config_path;
+  bool print_config = false;
   bool duration_given = false;
+  bool lidar_beams_given = false;
 };
 
 // KITTI (12 numbers a line) or TUM (8), from the first line that is not blank or a comment.
@@ -68,13 +72,16 @@ sim::SimulationOptions simulation_options(const SimulateArguments& arguments) {
   options.seed = arguments.seed;
   options.sensors = arguments.sensors;
   options.ins = arguments.ins_preset == "sps" ? sim::InsOptions::sps() : sim::InsOptions::rtk();
-  options.lidar.beams = arguments.lidar_beams;
   options.lidar_format = sim::lidar_file_format_from_string(arguments.lidar_format);
   options.radar_layout = io::radar_layout_from_string(arguments.radar_format);
   // The Delphi layout is an ESR's: its rate, field of view and 64 track ids.
   options.radar = options.radar_layout == io::RadarLayout::kDelphi
                       ? sim::RadarOptions::delphi_esr()
                       : sim::RadarOptions::conti_ars408();
+  // Precedence: the presets above are the base that --config changes; an option given on the
+  // command line wins over the file.
+  if (!arguments.config_path.empty()) apply_simulation_config(arguments.config_path, options);
+  if (arguments.lidar_beams_given) options.lidar.beams = arguments.lidar_beams;
   if (!arguments.mounting_path.empty()) {
     options.mountings = io::read_mountings(arguments.mounting_path);
   }
@@ -97,6 +104,14 @@ void print_summary(const sim::Simulation& simulation, const std::string& out_dir
                              simulation.lidar->options.beams, simulation.lidar->options.rate_hz,
                              sim::to_string(simulation.lidar->format),
                              simulation.world.objects.size(), simulation.world.movers.size());
+  }
+  if (simulation.camera) {
+    const io::CameraIntrinsics& camera = *simulation.camera;
+    std::cout << fmt::format(
+        "  camera: {}x{}, fx {:g} fy {:g} cx {:g} cy {:g}, distortion {} (intrinsics only; no "
+        "images yet)\n",
+        camera.width, camera.height, camera.fx, camera.fy, camera.cx, camera.cy,
+        io::to_string(camera.distortion_model));
   }
   if (!simulation.radar.empty()) {
     std::size_t detections = 0;
@@ -122,8 +137,16 @@ void print_summary(const sim::Simulation& simulation, const std::string& out_dir
 }
 
 int run_simulate(const SimulateArguments& arguments) {
+  const sim::SimulationOptions options = simulation_options(arguments);
+  if (arguments.print_config) {
+    std::cout << format_simulation_config(options);
+    return kExitOk;
+  }
+  if (arguments.out_dir.empty()) {
+    throw std::invalid_argument("simulate: --out DIR is required (the folder to write)");
+  }
   const auto start = std::chrono::steady_clock::now();
-  const sim::Simulation simulation = sim::simulate(simulation_options(arguments));
+  const sim::Simulation simulation = sim::simulate(options);
   sim::write_simulation(simulation, arguments.out_dir);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -145,9 +168,9 @@ RunCommand setup_simulate_command(CLI::App& command) {
           ->check(CLI::PositiveNumber)
           ->capture_default_str();
   command.add_option("--seed", arguments->seed, "Seed of every random draw")->capture_default_str();
-  command.add_option("--out", arguments->out_dir, "Folder to write (created if needed)")
-      ->type_name("DIR")
-      ->required();
+  // Required unless --print-config (checked when it runs).
+  command.add_option("--out", arguments->out_dir, "Folder to write (created if needed; required)")
+      ->type_name("DIR");
   command.add_option("--sensors", arguments->sensors, "Sensors to simulate, comma-separated")
       ->type_name("LIST")
       ->delimiter(',')
@@ -170,12 +193,14 @@ RunCommand setup_simulate_command(CLI::App& command) {
       ->type_name("NAME")
       ->check(CLI::IsMember({"pcd", "kitti", "both"}))
       ->capture_default_str();
-  command
-      .add_option("--lidar-beams", arguments->lidar_beams,
-                  "LiDAR beam table: 32 (OS1-32-like), 64 (HDL-64-like) or 128 (Pandar128-like)")
-      ->type_name("N")
-      ->check(CLI::IsMember({32, 64, 128}))
-      ->capture_default_str();
+  CLI::Option* lidar_beams =
+      command
+          .add_option(
+              "--lidar-beams", arguments->lidar_beams,
+              "LiDAR beam table: 32 (OS1-32-like), 64 (HDL-64-like) or 128 (Pandar128-like)")
+          ->type_name("N")
+          ->check(CLI::IsMember({32, 64, 128}))
+          ->capture_default_str();
   command
       .add_option("--radar-format", arguments->radar_format,
                   "Radar as conti (ARS408-like scan files), delphi (ESR-like scan files, 20 Hz) or "
@@ -202,20 +227,31 @@ RunCommand setup_simulate_command(CLI::App& command) {
       ->type_name("HZ")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  command
+      .add_option("--config", arguments->config_path,
+                  "YAML file setting the simulator's parameters (noise, rates, beams, radar, "
+                  "vehicle, route, world, camera; docs/simulator.md); options given here win")
+      ->type_name("FILE")
+      ->check(CLI::ExistingFile);
+  command.add_flag("--print-config", arguments->print_config,
+                   "Print every parameter (after presets, --config and options) as a --config "
+                   "file and exit");
   command.footer(
       "Writes DIR/ground_truth.yaml (every sensor's true vehicle_from_<sensor>), "
       "DIR/trajectory.csv\n"
       "(the car's true motion at 100 Hz) and each sensor's data (DIR/ins/novatel_enu.csv and\n"
       "DIR/ins/ins.csv; DIR/lidar/<start seconds>.pcd, one per sweep; DIR/radar/, one file per\n"
-      "scan, and DIR/radar_truth.csv); see docs/simulator.md and docs/formats.md. Same arguments,\n"
-      "same bytes.\n"
+      "scan, and DIR/radar_truth.csv; DIR/camera/intrinsics.yaml, no images yet); see\n"
+      "docs/simulator.md and docs/formats.md. Same arguments, same bytes.\n"
       "\n"
       "Example:\n"
       "  x2car simulate --scenario urban --duration 120 --seed 3 --out /tmp/drive\n"
       "  x2car simulate --duration 60 --sensors ins,lidar --lidar-beams 32 --out /tmp/lidar\n"
-      "  x2car simulate --duration 60 --sensors ins,radar --radar-format delphi --out /tmp/radar");
-  return [arguments, duration] {
+      "  x2car simulate --duration 60 --sensors ins,radar --radar-format delphi --out /tmp/radar\n"
+      "  x2car simulate --print-config > sim.yaml   # edit, then: --config sim.yaml");
+  return [arguments, duration, lidar_beams] {
     arguments->duration_given = duration->count() > 0;
+    arguments->lidar_beams_given = lidar_beams->count() > 0;
     return run_simulate(*arguments);
   };
 }

@@ -22,6 +22,7 @@ constexpr std::uint64_t kMotionStream = 301;
 constexpr std::uint64_t kWorldStream = 401;
 constexpr std::uint64_t kLidarNoiseStream = 501;
 constexpr std::uint64_t kRadarMountingStream = 102;
+constexpr std::uint64_t kCameraMountingStream = 103;
 constexpr std::uint64_t kRadarNoiseStream = 601;
 
 constexpr const char* kTrajectoryFile = "trajectory.csv";
@@ -36,7 +37,7 @@ MountingRange mounting_range(const std::string& sensor) {
   if (sensor == "ins") return {0.0, 1.5, -0.3, 0.3, 0.8, 1.4, 3.0};     // centre console to boot
   if (sensor == "lidar") return {0.8, 1.8, -0.2, 0.2, 1.5, 2.2, 3.0};   // roof
   if (sensor == "radar") return {3.5, 3.9, -0.2, 0.2, 0.4, 0.6, 1.0};   // front bumper
-  if (sensor == "camera") return {1.5, 2.0, -0.2, 0.2, 1.2, 1.5, 3.0};  // behind the windscreen
+  if (sensor == "camera") return {1.5, 2.0, -0.2, 0.2, 1.3, 1.5, 3.0};  // behind the windscreen
   throw std::invalid_argument("no mounting model for sensor '" + sensor + "'");
 }
 
@@ -50,6 +51,8 @@ io::SensorMountings draw_mountings(std::uint64_t seed) {
   drawn["lidar"] = draw_mounting("lidar", shared);
   Random radar(Random::derive_seed(seed, kRadarMountingStream));
   drawn["radar"] = draw_mounting("radar", radar);
+  Random camera(Random::derive_seed(seed, kCameraMountingStream));
+  drawn["camera"] = draw_mounting("camera", camera);
   return drawn;
 }
 
@@ -99,7 +102,7 @@ Route drive(const SimulationOptions& options, VehicleStates& states) {
 
 }  // namespace
 
-std::vector<std::string> simulated_sensor_names() { return {"ins", "lidar", "radar"}; }
+std::vector<std::string> simulated_sensor_names() { return {"ins", "lidar", "radar", "camera"}; }
 
 void SimulationOptions::Check() const {
   if (!(duration_s > 0.0) || !std::isfinite(duration_s)) {
@@ -127,6 +130,7 @@ void SimulationOptions::Check() const {
   lidar.Check();
   radar.Check();
   world_radar.Check();
+  camera.Check();
   // The layouts' track id fields: Conti 0-99, Delphi 0-63.
   const int max_ids = radar_layout == io::RadarLayout::kDelphi ? 64 : 100;
   if (radar_layout != io::RadarLayout::kGeneric && radar.track_id_count > max_ids) {
@@ -197,6 +201,7 @@ Simulation simulate(const SimulationOptions& options) {
         options.radar, Random::derive_seed(options.seed, kRadarNoiseStream));
     simulation.radar_layout = options.radar_layout;
   }
+  if (truth.vehicle_from_sensor.contains("camera")) simulation.camera = options.camera.intrinsics;
   return simulation;
 }
 
@@ -241,6 +246,10 @@ void write_simulation(const Simulation& simulation, const std::filesystem::path&
     io::write_radar(out_dir / "radar", simulation.radar_layout,
                     radar_measurements(simulation.radar), simulation.start_unix_time);
     io::write_text_file(out_dir / kRadarTruthFile, format_radar_truth_csv(simulation.radar));
+  }
+  if (simulation.camera) {
+    create_folder(out_dir / "camera");
+    io::write_camera_intrinsics(out_dir / "camera" / kCameraIntrinsicsFile, *simulation.camera);
   }
 }
 

@@ -10,9 +10,11 @@
 #include <string>
 #include <vector>
 
+#include "x2car/io/camera_intrinsics.hpp"
 #include "x2car/io/ground_truth.hpp"
 #include "x2car/io/novatel_csv.hpp"
 #include "x2car/io/radar_csv.hpp"
+#include "x2car/sim/camera_model.hpp"
 #include "x2car/sim/ins_model.hpp"
 #include "x2car/sim/lidar_writer.hpp"
 #include "x2car/sim/radar_model.hpp"
@@ -26,7 +28,7 @@
 namespace x2car::sim {
 
 // The sensors the simulator models so far.
-std::vector<std::string> simulated_sensor_names();  // {"ins", "lidar", "radar"}
+std::vector<std::string> simulated_sensor_names();  // {"ins", "lidar", "radar", "camera"}
 
 struct SimulationOptions {
   Scenario scenario = Scenario::kUrban;
@@ -42,7 +44,8 @@ struct SimulationOptions {
   LidarOptions lidar;  // 64 beams at 10 Hz by default
   LidarFileFormat lidar_format = LidarFileFormat::kPcd;  // lidar/ as PCD, KITTI .bin or both
   RadarOptions radar;  // ARS408-like by default; use RadarOptions::delphi_esr() with kDelphi
-  WorldRadarOptions world_radar;                           // how the world's objects become targets
+  WorldRadarOptions world_radar;  // how the world's objects become targets
+  CameraOptions camera;           // intrinsics (1920x1080, no distortion); no images yet
   io::RadarLayout radar_layout = io::RadarLayout::kConti;  // radar/ as Conti, Delphi or generic
   double start_unix_time = io::kDefaultStartUnixTime;      // UTC of the log's time 0 [s]
   // A recorded path to drive instead of a generated route (`--trajectory`): poses in a z-up world
@@ -64,12 +67,16 @@ struct Simulation {
   std::optional<LidarOutput> lidar;
   std::vector<RadarScan> radar;  // one per scan with the detections' truth; empty without "radar"
   io::RadarLayout radar_layout = io::RadarLayout::kConti;
+  // Set when "camera" was simulated: its intrinsics (its mounting is in truth as "camera", that of
+  // its body frame; camera_model.hpp). No images yet.
+  std::optional<io::CameraIntrinsics> camera;
   double start_unix_time = 0.0;  // UTC of time 0 [s]
 };
 
 // A plausible mounting for a sensor of a real car, drawn from `random`: yaw within +-5 deg, pitch
 // and roll within +-3 deg (a radar's within +-1 deg: it is aligned to the road when fitted), and a
-// lever arm where that sensor usually sits.
+// lever arm where that sensor usually sits. A camera's is that of its body frame
+// (camera_model.hpp).
 io::SensorMounting draw_mounting(const std::string& sensor, Random& random);
 
 Simulation simulate(const SimulationOptions& options);
@@ -77,7 +84,7 @@ Simulation simulate(const SimulationOptions& options);
 // Writes the simulation as the folder layout of docs/formats.md:
 //   ground_truth.yaml, trajectory.csv, ins/novatel_enu.csv, ins/ins.csv, lidar/ (lidar_writer.hpp),
 //   radar/ (io::write_radar in the simulation's layout; emptied first, so that a rerun leaves no
-//   stale scans) and radar_truth.csv (each detection's source)
+//   stale scans) and radar_truth.csv (each detection's source), camera/intrinsics.yaml
 // Creates the folder; InputError when it cannot be written.
 void write_simulation(const Simulation& simulation, const std::filesystem::path& out_dir);
 
@@ -87,6 +94,9 @@ void write_simulation(const Simulation& simulation, const std::filesystem::path&
 // ghost's: its target's; -1 for clutter); moving 1 when the source moves over ground; range [m],
 // azimuth [rad], range_rate [m/s] without noise.
 constexpr const char* kRadarTruthFile = "radar_truth.csv";
+
+// The camera's intrinsics (io/camera_intrinsics.hpp), in the drive's camera/ folder.
+constexpr const char* kCameraIntrinsicsFile = "intrinsics.yaml";
 std::string format_radar_truth_csv(std::span<const RadarScan> scans);
 
 }  // namespace x2car::sim

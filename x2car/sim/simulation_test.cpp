@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "x2car/core/robust_stats.hpp"
+#include "x2car/io/camera_intrinsics.hpp"
 #include "x2car/io/novatel_csv.hpp"
 #include "x2car/io/pose_file.hpp"
 #include "x2car/io/radar_csv.hpp"
@@ -178,6 +179,74 @@ TEST(Simulation, DrawnRadarMountingSitsOnTheFrontBumper) {
     EXPECT_LE(std::abs(deg_from_rad(radar.rotation.pitch)), 1.0);
     EXPECT_LE(std::abs(deg_from_rad(radar.rotation.roll)), 1.0);
   }
+}
+
+TEST(Simulation, CameraWritesItsIntrinsicsAndMountingAndChangesNoOtherBytes) {
+  SimulationOptions options = short_radar_drive(6);
+  options.duration_s = 8.0;
+  const auto without = temp_folder("simulation_camera_a");
+  write_simulation(simulate(options), without);
+  options.sensors = {"ins", "radar", "camera"};
+  options.camera.intrinsics.fx = 1100.0;
+  const auto with = temp_folder("simulation_camera_b");
+  const Simulation simulation = simulate(options);
+  write_simulation(simulation, with);
+
+  const io::GroundTruth truth = io::read_ground_truth(with / "ground_truth.yaml");
+  ASSERT_TRUE(truth.vehicle_from_sensor.contains("camera"));
+  EXPECT_EQ(truth.vehicle_from_sensor.at("camera").rotation.yaw,
+            simulation.truth.vehicle_from_sensor.at("camera").rotation.yaw);
+  EXPECT_EQ(io::read_camera_intrinsics(with / "camera" / kCameraIntrinsicsFile),
+            options.camera.intrinsics);
+
+  // Every other file is the same, byte for byte; the ground truth only gains the camera.
+  auto others = folder_bytes(with);
+  others.erase("camera/intrinsics.yaml");
+  const auto before = folder_bytes(without);
+  const std::string truth_before = before.at("ground_truth.yaml");
+  const std::string truth_after = others.at("ground_truth.yaml");
+  others.erase("ground_truth.yaml");
+  auto before_others = before;
+  before_others.erase("ground_truth.yaml");
+  EXPECT_EQ(others, before_others);
+  io::GroundTruth truth_without = io::parse_ground_truth(truth_before, "before");
+  truth_without.vehicle_from_sensor["camera"] = truth.vehicle_from_sensor.at("camera");
+  EXPECT_EQ(io::format_ground_truth(truth_without), truth_after);
+}
+
+TEST(Simulation, DrawnCameraMountingSitsBehindTheWindscreen) {
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    SimulationOptions options = short_urban_drive(seed);
+    options.duration_s = 5.0;
+    options.sensors = {"camera"};
+    const Simulation simulation = simulate(options);
+    const io::SensorMounting camera = simulation.truth.vehicle_from_sensor.at("camera");
+    EXPECT_GE(camera.translation.x(), 1.5);
+    EXPECT_LE(camera.translation.x(), 2.0);
+    EXPECT_GE(camera.translation.z(), 1.3);
+    EXPECT_LE(camera.translation.z(), 1.5);
+    EXPECT_LE(std::abs(deg_from_rad(camera.rotation.yaw)), 5.0);
+    EXPECT_LE(std::abs(deg_from_rad(camera.rotation.pitch)), 3.0);
+    EXPECT_LE(std::abs(deg_from_rad(camera.rotation.roll)), 3.0);
+    ASSERT_TRUE(simulation.camera.has_value());
+    EXPECT_EQ(*simulation.camera, io::CameraIntrinsics{});
+  }
+}
+
+TEST(Simulation, CameraMountingIsItsBodyFrameAndTheOpticalAxisLooksAlongIt) {
+  // vehicle_from_camera is the body frame (x forward); the optical axis (z of O) is its x axis.
+  // Pitched down 2 deg, the optical axis points 2 deg below the horizon, forward.
+  const io::SensorMounting pitched{{1.8, 0.0, 1.4}, {0.0, rad_from_deg(2.0), 0.0}};
+  const Eigen::Vector3d optical_axis_in_vehicle = pitched.vehicle_from_sensor().linear() *
+                                                  camera_body_from_optical() *
+                                                  Eigen::Vector3d::UnitZ();
+  EXPECT_GT(optical_axis_in_vehicle.x(), 0.99);
+  EXPECT_NEAR(std::asin(-optical_axis_in_vehicle.z()), rad_from_deg(2.0), 1e-12);
+  // Image x (right) is the vehicle's -y, image y (down) its -z, for a level camera.
+  const Eigen::Matrix3d level = camera_body_from_optical();
+  EXPECT_TRUE(level.col(0).isApprox(-Eigen::Vector3d::UnitY()));
+  EXPECT_TRUE(level.col(1).isApprox(-Eigen::Vector3d::UnitZ()));
+  EXPECT_NEAR(level.determinant(), 1.0, 1e-15);
 }
 
 // One row of radar_truth.csv.
