@@ -3,9 +3,12 @@
 // make and write them as binary PCD, and to generate and mesh the world.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <atomic>
 #include <filesystem>
 
+#include "x2car/lidar/odometry_error.hpp"
+#include "x2car/lidar/odometry_test_support.hpp"
 #include "x2car/sim/lidar_writer.hpp"
 #include "x2car/sim/simulation.hpp"
 
@@ -78,6 +81,54 @@ void BM_HighwayWorldScene(benchmark::State& state) {
   report_time_per_minute(state, 10.0);
 }
 BENCHMARK(BM_HighwayWorldScene)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// LiDAR odometry (issue 5: >= 120 sweeps/s of 64-beam data on 2 cores, drift <= 1 %). Arg: beams.
+// A 60 s urban drive (seed 1); only register_sweep is timed (the simulator makes the sweeps in
+// between). Counters: Hz = sweeps per second of registration, drift_percent and
+// rotation_deg_per_100m = KITTI-style relative errors over 25-400 m, iterations per sweep,
+// non_ok = sweeps whose registration reported a failure, weakest_constraint = the smallest
+// translation or rotation constraint met (OdometryOptions::min_translation_constraint).
+void BM_LidarOdometry(benchmark::State& state) {
+  const sim::SimulationOptions drive = lidar::testing::simulated_lidar_drive(
+      sim::Scenario::kUrban, 60.0, static_cast<int>(state.range(0)), 1);
+  lidar::testing::OdometryRun run;
+  for (auto _ : state) {
+    run = lidar::testing::run_simulated_odometry(drive).front();
+    state.SetIterationTime(run.register_seconds);
+  }
+  lidar::DriftOptions lengths;
+  lengths.lengths_m = {25.0, 50.0, 100.0, 200.0, 400.0};
+  const lidar::Drift drift = lidar::relative_drift(run.estimate, run.truth, lengths);
+  double iterations = 0.0;
+  double non_ok = 0.0;
+  double weakest = 1.0;
+  for (const lidar::OdometryStep& step : run.steps) {
+    iterations += step.iterations;
+    if (step.status != lidar::RegistrationStatus::kFirstSweep) {
+      weakest = std::min({weakest, step.translation_constraint, step.rotation_constraint});
+    }
+    if (step.status != lidar::RegistrationStatus::kOk &&
+        step.status != lidar::RegistrationStatus::kFirstSweep) {
+      ++non_ok;
+    }
+  }
+  const double sweeps = static_cast<double>(run.steps.size());
+  state.counters["Hz"] = sweeps / run.register_seconds;
+  state.counters["drift_percent"] = drift.translation_percent;
+  state.counters["rotation_deg_per_100m"] = drift.rotation_deg_per_100m;
+  state.counters["path_m"] = drift.path_length_m;
+  state.counters["iterations"] = iterations / sweeps;
+  state.counters["points_per_sweep"] = static_cast<double>(run.points) / sweeps;
+  state.counters["non_ok"] = non_ok;
+  state.counters["weakest_constraint"] = weakest;
+}
+BENCHMARK(BM_LidarOdometry)
+    ->Arg(32)
+    ->Arg(64)
+    ->Arg(128)
+    ->Unit(benchmark::kSecond)
+    ->UseManualTime()
+    ->Iterations(1);
 
 }  // namespace
 }  // namespace x2car

@@ -14,6 +14,10 @@ constexpr std::array kCalibrators = {
                "GNSS/INS -> car: yaw (track heading or velocity direction) and pitch "
                "(non-holonomic), from a novatel_enu.csv, generic CSV or KITTI OXTS log",
                &setup_calibrate_ins_command},
+    Subcommand{"lidar",
+               "LiDAR -> car: roll, pitch and height (ground plane) and yaw (odometry track), "
+               "from a folder of PCD or KITTI sweeps",
+               &setup_calibrate_lidar_command},
     Subcommand{"radar",
                "radar -> car: yaw by the velocity method (Doppler of static targets), from "
                "Conti, Delphi or generic radar files and a GNSS/INS log",

@@ -432,3 +432,71 @@ TEST(CalibrateRadar, PositionAndAutoMethods) {
 
 }  // namespace
 }  // namespace x2car::cli
+
+namespace x2car::cli {
+namespace {
+
+// calibrate lidar (issue 5) through the files `simulate` writes.
+TEST(CalibrateLidar, RecoversTheSimulatedMountingFromPcdFiles) {
+  const auto folder = std::filesystem::path(::testing::TempDir()) / "cli_calibrate_lidar_drive";
+  std::filesystem::remove_all(folder);
+  const CliRun simulate = run_x2car(
+      "simulate --scenario straight --duration 30 --seed 2 --sensors lidar --lidar-beams 32 "
+      "--out " +
+      folder.string());
+  ASSERT_EQ(simulate.exit_code, 0) << simulate.output;
+  std::ifstream truth_file(folder / "ground_truth.yaml");
+  const std::string truth((std::istreambuf_iterator<char>(truth_file)),
+                          std::istreambuf_iterator<char>());
+  const auto json = folder / "lidar_result.json";
+  const CliRun calibrate = run_x2car("calibrate lidar --input " + folder.string() + " --out " +
+                                     json.string() + " --without-series");
+  ASSERT_EQ(calibrate.exit_code, 0) << calibrate.output;
+  EXPECT_THAT(calibrate.output, HasSubstr("found 300 sweeps"));
+  std::ifstream result_file(json);
+  const std::string result((std::istreambuf_iterator<char>(result_file)),
+                           std::istreambuf_iterator<char>());
+  constexpr double kDegPerRad = 180.0 / M_PI;
+  for (const std::string angle : {"roll", "pitch", "yaw"}) {
+    EXPECT_NEAR(number_after(result, "", "\"" + angle + "_deg\""),
+                number_after(truth, "vehicle_from_lidar:", angle) * kDegPerRad, 0.1)
+        << angle << "\n"
+        << result;
+  }
+  EXPECT_NEAR(number_after(result, "", "\"z_m\""), number_after(truth, "vehicle_from_lidar:", "z"),
+              0.02);
+}
+
+TEST(CalibrateLidar, BadFoldersExitWithTwoAndTooFewSweepsWithOne) {
+  const auto root = std::filesystem::path(::testing::TempDir()) / "cli_calibrate_lidar_bad";
+  std::filesystem::remove_all(root);
+  std::filesystem::create_directories(root / "empty");
+  const CliRun empty = run_x2car("calibrate lidar --input " + (root / "empty").string());
+  EXPECT_EQ(empty.exit_code, 2) << empty.output;
+  EXPECT_THAT(empty.output, HasSubstr("holds no LiDAR sweeps"));
+
+  const auto drive = root / "drive";
+  const CliRun simulate = run_x2car(
+      "simulate --scenario straight --duration 2.5 --seed 1 --sensors lidar --lidar-beams 32 "
+      "--out " +
+      drive.string());
+  ASSERT_EQ(simulate.exit_code, 0) << simulate.output;
+  std::filesystem::create_directories(root / "few");
+  for (const std::string name :
+       {"000000.000000", "000000.100000", "000000.200000", "000000.300000", "000000.400000"}) {
+    std::filesystem::copy_file(drive / "lidar" / (name + ".pcd"), root / "few" / (name + ".pcd"));
+  }
+  const CliRun few = run_x2car("calibrate lidar --input " + (root / "few").string());
+  EXPECT_EQ(few.exit_code, 1) << few.output;
+  EXPECT_THAT(few.output, HasSubstr("only 5 sweeps"));
+
+  const auto truncated = drive / "lidar" / "000000.200000.pcd";
+  std::filesystem::resize_file(truncated, std::filesystem::file_size(truncated) / 2);
+  const CliRun bad = run_x2car("calibrate lidar --input " + drive.string());
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_THAT(bad.output, HasSubstr(truncated.string()));
+  EXPECT_THAT(bad.output, HasSubstr("truncated"));
+}
+
+}  // namespace
+}  // namespace x2car::cli

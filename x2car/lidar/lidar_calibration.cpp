@@ -1,0 +1,466 @@
+#include "x2car/lidar/lidar_calibration.hpp"
+
+#include <fmt/format.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_pipeline.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <thread>
+
+#include "x2car/core/robust_stats.hpp"
+
+namespace x2car::lidar {
+namespace {
+
+constexpr const char* kSensor = "lidar";
+
+// One sweep on its way through the pipeline.
+struct SweepInFlight {
+  std::size_t index = 0;
+  io::PointCloud cloud;
+};
+
+// What one pass over the sweeps produced.
+struct SweepPass {
+  std::vector<OdometryStep> steps;               // one per sweep
+  std::vector<std::optional<GroundFit>> ground;  // one per sweep; set on every k-th
+};
+
+SweepPass run_sweep_pass(const SweepSource& sweeps, const LidarCalibrationOptions& options) {
+  const std::size_t count = sweeps.times.size();
+  SweepPass pass;
+  pass.steps.resize(count);
+  pass.ground.resize(count);
+  LidarOdometry odometry(options.odometry);
+  const auto every = static_cast<std::size_t>(options.ground_every);
+  std::size_t next = 0;
+  tbb::enumerable_thread_specific<GroundScratch> scratch;
+  // Enough sweeps in flight to keep every core reading and fitting while the odometry runs, few
+  // enough that memory stays bounded.
+  const std::size_t in_flight = 2 * std::max<std::size_t>(2, std::thread::hardware_concurrency());
+  tbb::parallel_pipeline(
+      in_flight,
+      tbb::make_filter<void, std::shared_ptr<SweepInFlight>>(
+          tbb::filter_mode::serial_in_order,
+          [&](tbb::flow_control& control) -> std::shared_ptr<SweepInFlight> {
+            if (next == count) {
+              control.stop();
+              return nullptr;
+            }
+            auto sweep = std::make_shared<SweepInFlight>();
+            sweep->index = next++;
+            return sweep;
+          }) &
+          tbb::make_filter<std::shared_ptr<SweepInFlight>, std::shared_ptr<SweepInFlight>>(
+              tbb::filter_mode::parallel,
+              [&](std::shared_ptr<SweepInFlight> sweep) {
+                sweep->cloud = sweeps.read(sweep->index);
+                if (sweep->index % every == 0) {
+                  // Seeded per sweep so the result does not depend on the threads' order.
+                  pass.ground[sweep->index] = fit_ground(
+                      sweep->cloud, options.ground, options.seed + sweep->index, scratch.local());
+                }
+                return sweep;
+              }) &
+          tbb::make_filter<std::shared_ptr<SweepInFlight>, void>(
+              tbb::filter_mode::serial_in_order, [&](const std::shared_ptr<SweepInFlight>& sweep) {
+                pass.steps[sweep->index] =
+                    odometry.register_sweep(sweep->cloud, sweeps.times[sweep->index]);
+              }));
+  return pass;
+}
+
+// The car's motion at each sweep from the odometry's poses: what the ground's gates test.
+struct SweepMotion {
+  std::vector<double> speed;      // [m/s]
+  std::vector<double> turn_rate;  // angular rate of the LiDAR [rad/s]
+};
+
+SweepMotion motion_from(const std::vector<OdometryStep>& steps) {
+  const std::size_t n = steps.size();
+  SweepMotion motion;
+  motion.speed.assign(n, 0.0);
+  motion.turn_rate.assign(n, 0.0);
+  if (n < 3) return motion;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t before = i == 0 ? 0 : i - 1;
+    const std::size_t after = std::min(n - 1, i + 1);
+    const double dt = steps[after].time - steps[before].time;
+    const Eigen::Isometry3d& a = steps[before].world_from_lidar;
+    const Eigen::Isometry3d& b = steps[after].world_from_lidar;
+    motion.speed[i] = (b.translation() - a.translation()).norm() / dt;
+    motion.turn_rate[i] = Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() / dt;
+  }
+  return motion;
+}
+
+bool registered(const OdometryStep& step) {
+  return step.status == RegistrationStatus::kOk || step.status == RegistrationStatus::kFirstSweep;
+}
+
+// The per-frame ground measurements that pass the gates.
+struct GroundFrames {
+  std::vector<double> time;
+  std::vector<double> roll;
+  std::vector<double> pitch;
+  std::vector<double> height;
+  std::vector<Eigen::Vector3d> normal;
+  std::int64_t fitted = 0;
+  std::int64_t failed = 0;
+  std::int64_t turning = 0;
+  std::int64_t unregistered = 0;
+};
+
+GroundFrames gate_ground_frames(const SweepPass& pass, const SweepMotion& motion,
+                                const LidarCalibrationOptions& options) {
+  GroundFrames frames;
+  const std::size_t n = pass.steps.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!pass.ground[i]) continue;
+    const GroundFit& fit = *pass.ground[i];
+    if (!fit.plane) {
+      ++frames.failed;
+      continue;
+    }
+    ++frames.fitted;
+    const bool neighbours_registered = registered(pass.steps[i]) &&
+                                       (i == 0 || registered(pass.steps[i - 1])) &&
+                                       (i + 1 == n || registered(pass.steps[i + 1]));
+    if (!neighbours_registered) {
+      ++frames.unregistered;
+      continue;
+    }
+    if (motion.turn_rate[i] > options.max_ground_turn_rate) {
+      ++frames.turning;
+      continue;
+    }
+    const GroundPlane& plane = *fit.plane;
+    frames.time.push_back(pass.steps[i].time);
+    frames.roll.push_back(roll_from_ground(plane.normal_in_lidar));
+    frames.pitch.push_back(pitch_from_ground(plane.normal_in_lidar));
+    frames.height.push_back(plane.height_m);
+    frames.normal.push_back(plane.normal_in_lidar);
+  }
+  return frames;
+}
+
+// A robust estimate of one mounting quantity from per-frame values.
+struct FrameEstimate {
+  double value = 0.0;
+  double standard_error = 0.0;
+  std::int64_t used = 0;
+  std::int64_t outliers = 0;
+};
+
+// Standard error from the spread of the means of blocks `block_s` long: frames close in time see
+// the same road and share their errors, so their count overstates the information.
+double block_standard_error(std::span<const double> times, std::span<const double> residuals,
+                            const std::vector<bool>& used, double block_s) {
+  std::vector<double> block_means;
+  std::vector<double> block_weights;
+  double sum = 0.0;
+  double count = 0.0;
+  double block_start = times.empty() ? 0.0 : times.front();
+  const auto close_block = [&] {
+    if (count > 0.0) {
+      block_means.push_back(sum / count);
+      block_weights.push_back(count);
+    }
+    sum = count = 0.0;
+  };
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    if (times[i] - block_start >= block_s) {
+      close_block();
+      block_start = times[i];
+    }
+    if (!used[i]) continue;
+    sum += residuals[i];
+    count += 1.0;
+  }
+  close_block();
+  if (block_means.size() >= 2) return standard_error_of_weighted_mean(block_means, block_weights);
+  // One block: its frames' spread over their count is the best there is, and optimistic.
+  std::vector<double> kept;
+  for (std::size_t i = 0; i < residuals.size(); ++i) {
+    if (used[i]) kept.push_back(residuals[i]);
+  }
+  return kept.size() >= 2 ? standard_deviation(kept) / std::sqrt(static_cast<double>(kept.size()))
+                          : 0.0;
+}
+
+// The median of the per-frame values: the body's lean on its suspension lags the accelerations
+// that cause it, so regressing on them does no better than letting the median average braking
+// against speeding up and left turns against right ones. Frames more than k robust sigmas from it
+// are counted as outliers and left out of the standard error.
+FrameEstimate estimate_from_frames(std::span<const double> times, std::span<const double> values,
+                                   const LidarCalibrationOptions& options) {
+  // The median's standard error over the mean's, for normally distributed values: sqrt(pi / 2).
+  constexpr double kMedianEfficiency = 1.2533141373155003;
+  FrameEstimate estimate;
+  estimate.value = median(values);
+  std::vector<double> residuals(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) residuals[i] = values[i] - estimate.value;
+  const std::vector<bool> used = mad_inlier_mask(residuals, options.ground_outliers);
+  estimate.used = std::ranges::count(used, true);
+  estimate.outliers = static_cast<std::int64_t>(values.size()) - estimate.used;
+  estimate.standard_error =
+      kMedianEfficiency * block_standard_error(times, residuals, used, options.block_s);
+  return estimate;
+}
+
+// The odometry's poses with the LiDAR levelled by the ground's roll and pitch: a frame whose
+// z axis is the car's, so its heading differs from the car's by the mounting yaw alone. The world
+// is the first levelled frame, whose z is the car's up at the start.
+SensorTrack levelled_track(const std::vector<OdometryStep>& steps, double roll, double pitch) {
+  const Eigen::Matrix3d levelled_from_lidar = rotation_from_euler({roll, pitch, 0.0});
+  const Eigen::Matrix3d level_world_from_world =
+      levelled_from_lidar * steps.front().world_from_lidar.linear().transpose();
+  SensorTrack track;
+  for (const OdometryStep& step : steps) {
+    track.time.push_back(step.time);
+    track.position_enu.push_back(level_world_from_world * step.world_from_lidar.translation());
+    track.world_from_sensor.push_back(level_world_from_world * step.world_from_lidar.linear() *
+                                      levelled_from_lidar.transpose());
+  }
+  return track;
+}
+
+bool disagree(double a, double a_std, double b, double b_std,
+              const LidarCalibrationOptions& options) {
+  const double difference = std::abs(angle_difference(a, b));
+  return difference > options.min_disagreement &&
+         difference > options.disagreement_sigmas * std::hypot(a_std, b_std);
+}
+
+void append_reason(CalibrationResult& result, const std::string& text) {
+  result.reason += result.reason.empty() ? text : "; " + text;
+}
+
+void add_ground(const GroundFrames& frames, const LidarCalibrationOptions& options,
+                CalibrationResult& result) {
+  const FrameEstimate roll = estimate_from_frames(frames.time, frames.roll, options);
+  const FrameEstimate pitch = estimate_from_frames(frames.time, frames.pitch, options);
+  const FrameEstimate height = estimate_from_frames(frames.time, frames.height, options);
+  result.roll = roll.value;
+  result.roll_std = roll.standard_error;
+  result.pitch = pitch.value;
+  result.pitch_std = pitch.standard_error;
+  result.z = height.value;
+  result.z_std = height.standard_error;
+  result.support["ground_frames"] = static_cast<std::int64_t>(frames.time.size());
+  result.rejections["ground_outlier"] = roll.outliers + pitch.outliers + height.outliers;
+}
+
+void add_yaw(const TrackAlignment& alignment, const LidarCalibrationOptions& options,
+             CalibrationResult& result) {
+  const SegmentationRejections& r = alignment.segmentation.rejections;
+  result.rejections["slow"] = r.slow;
+  result.rejections["curved"] = r.curved;
+  result.rejections["reversing"] = r.excluded - alignment.without_direction;
+  result.rejections["short_run"] = r.short_run;
+  result.diagnostics["valid_duration_s"] = alignment.valid_duration_s;
+  if (alignment.insufficient_reason) {
+    result.status = CalibrationStatus::kInsufficientData;
+    append_reason(result, "yaw: " + *alignment.insufficient_reason);
+    return;
+  }
+  const SegmentAverage& track_yaw = *alignment.yaw;
+  const SegmentAverage& velocity_yaw = *alignment.velocity_yaw_estimate;
+  const bool use_velocity = options.yaw_method == LidarYawMethod::kVelocityDirection ||
+                            (options.yaw_method == LidarYawMethod::kAuto &&
+                             velocity_yaw.standard_error < track_yaw.standard_error);
+  const SegmentAverage& chosen = use_velocity ? velocity_yaw : track_yaw;
+  result.yaw = chosen.value;
+  result.yaw_std = chosen.standard_error;
+  result.method = use_velocity ? "velocity_direction" : "track_heading";
+  result.support["segments"] = static_cast<std::int64_t>(track_yaw.segments.size());
+  result.support["valid_sweeps"] = static_cast<std::int64_t>(alignment.segmentation.sample_count());
+  result.diagnostics["track_method_yaw_deg"] = deg_from_rad(track_yaw.value);
+  result.diagnostics["track_method_yaw_std_deg"] = deg_from_rad(track_yaw.standard_error);
+  result.diagnostics["velocity_method_yaw_deg"] = deg_from_rad(velocity_yaw.value);
+  result.diagnostics["velocity_method_yaw_std_deg"] = deg_from_rad(velocity_yaw.standard_error);
+  result.diagnostics["yaw_disagreement_deg"] =
+      deg_from_rad(angle_difference(velocity_yaw.value, track_yaw.value));
+  if (disagree(track_yaw.value, track_yaw.standard_error, velocity_yaw.value,
+               velocity_yaw.standard_error, options)) {
+    append_reason(result,
+                  fmt::format("the velocity-direction yaw ({:.3f} deg) differs from the "
+                              "track-heading yaw ({:.3f} deg)",
+                              deg_from_rad(velocity_yaw.value), deg_from_rad(track_yaw.value)));
+  }
+  // The levelled frame is pitched by the ground's error: the velocity's pitch in it is minus that
+  // error, so adding it gives the motion's own estimate of the pitch.
+  const SegmentAverage& residual_pitch = *alignment.velocity_pitch_estimate;
+  const double motion_pitch = *result.pitch + residual_pitch.value;
+  result.diagnostics["motion_pitch_deg"] = deg_from_rad(motion_pitch);
+  result.diagnostics["motion_pitch_std_deg"] = deg_from_rad(residual_pitch.standard_error);
+  if (disagree(motion_pitch, residual_pitch.standard_error, *result.pitch, *result.pitch_std,
+               options)) {
+    append_reason(result,
+                  fmt::format("the pitch from the motion ({:.3f} deg) differs from the ground's "
+                              "({:.3f} deg): check the odometry and the ground fits",
+                              deg_from_rad(motion_pitch), deg_from_rad(*result.pitch)));
+  }
+}
+
+void add_series(const GroundFrames& frames, const TrackAlignment* alignment,
+                CalibrationResult& result) {
+  result.series.push_back({"ground_roll", "rad", frames.time, frames.roll});
+  result.series.push_back({"ground_pitch", "rad", frames.time, frames.pitch});
+  result.series.push_back({"ground_height", "m", frames.time, frames.height});
+  Series nx{"ground_normal_x", "", frames.time, {}};
+  Series ny{"ground_normal_y", "", frames.time, {}};
+  Series nz{"ground_normal_z", "", frames.time, {}};
+  for (const Eigen::Vector3d& normal : frames.normal) {
+    nx.value.push_back(normal.x());
+    ny.value.push_back(normal.y());
+    nz.value.push_back(normal.z());
+  }
+  result.series.push_back(std::move(nx));
+  result.series.push_back(std::move(ny));
+  result.series.push_back(std::move(nz));
+  if (alignment == nullptr) return;
+  const std::vector<double>& time = alignment->track.time;
+  result.series.push_back({"track_heading", "rad", time, alignment->track.heading_enu});
+  result.series.push_back({"lidar_heading", "rad", time, alignment->sensor_heading});
+  result.series.push_back({"heading_offset", "rad", time, alignment->heading_offset});
+  result.series.push_back({"speed", "m/s", time, alignment->track.speed});
+}
+
+double path_length(const std::vector<OdometryStep>& steps) {
+  double length = 0.0;
+  for (std::size_t i = 1; i < steps.size(); ++i) {
+    length +=
+        (steps[i].world_from_lidar.translation() - steps[i - 1].world_from_lidar.translation())
+            .norm();
+  }
+  return length;
+}
+
+}  // namespace
+
+const char* to_string(LidarYawMethod method) {
+  switch (method) {
+    case LidarYawMethod::kAuto:
+      return "auto";
+    case LidarYawMethod::kTrackHeading:
+      return "track_heading";
+    case LidarYawMethod::kVelocityDirection:
+      return "velocity_direction";
+  }
+  return "unknown";
+}
+
+LidarYawMethod lidar_yaw_method_from_string(const std::string& text) {
+  for (const auto method :
+       {LidarYawMethod::kAuto, LidarYawMethod::kTrackHeading, LidarYawMethod::kVelocityDirection}) {
+    if (text == to_string(method)) return method;
+  }
+  throw std::invalid_argument("unknown yaw method '" + text +
+                              "' (auto, track_heading, velocity_direction)");
+}
+
+void LidarCalibrationOptions::Check() const {
+  odometry.Check();
+  ground.Check();
+  alignment.Check();
+  ground_outliers.Check();
+  const auto require = [](bool condition, const char* message) {
+    if (!condition) throw std::invalid_argument(std::string("lidar calibration: ") + message);
+  };
+  require(ground_every >= 1, "ground_every must be at least 1");
+  require(max_ground_turn_rate > 0.0, "max_ground_turn_rate must be positive");
+  require(block_s > 0.0, "block_s must be positive");
+  require(min_sweeps >= 3, "min_sweeps must be at least 3");
+  require(min_ground_frames >= 2, "min_ground_frames must be at least 2");
+  require(max_failed_registration_share >= 0.0 && max_failed_registration_share <= 1.0,
+          "max_failed_registration_share must be in [0, 1]");
+  require(disagreement_sigmas > 0.0, "disagreement_sigmas must be positive");
+  require(min_disagreement >= 0.0, "min_disagreement must be >= 0");
+}
+
+SweepSource sweep_source_from(const SweepFolder& folder) {
+  SweepSource source;
+  for (const SweepFile& sweep : folder.sweeps) source.times.push_back(sweep.time);
+  source.read = [&folder](std::size_t index) { return read_sweep(folder, folder.sweeps[index]); };
+  return source;
+}
+
+CalibrationResult calibrate_lidar(const SweepSource& sweeps,
+                                  const LidarCalibrationOptions& options) {
+  options.Check();
+  const auto started = std::chrono::steady_clock::now();
+  const std::size_t count = sweeps.times.size();
+  if (count < options.min_sweeps) {
+    return insufficient_data(
+        kSensor, fmt::format("only {} sweeps; need at least {} and {:g} s of "
+                             "straight driving for the yaw",
+                             count, options.min_sweeps, options.alignment.min_valid_duration_s));
+  }
+  const SweepPass pass = run_sweep_pass(sweeps, options);
+  const SweepMotion motion = motion_from(pass.steps);
+
+  CalibrationResult result;
+  result.sensor = kSensor;
+  result.status = CalibrationStatus::kOk;
+  result.support["sweeps"] = static_cast<std::int64_t>(count);
+  std::int64_t failed_registrations = 0;
+  std::int64_t skipped_points = 0;
+  for (const OdometryStep& step : pass.steps) {
+    if (!registered(step)) {
+      ++failed_registrations;
+      ++result.rejections["registration_" + to_string(step.status)];
+    }
+    skipped_points += static_cast<std::int64_t>(step.invalid_points);
+  }
+  result.rejections["registration_failed"] = failed_registrations;
+  result.rejections["non_finite_points"] = skipped_points;
+  result.diagnostics["odometry_path_length_m"] = path_length(pass.steps);
+
+  const GroundFrames frames = gate_ground_frames(pass, motion, options);
+  result.rejections["ground_failed"] = frames.failed;
+  result.rejections["ground_turning"] = frames.turning;
+  result.rejections["ground_unregistered"] = frames.unregistered;
+  result.support["ground_fits"] = frames.fitted;
+  if (frames.time.size() < options.min_ground_frames) {
+    result.status = CalibrationStatus::kInsufficientData;
+    result.reason = fmt::format(
+        "only {} usable ground frames (of {} fitted; {} failed, {} while turning, {} around failed "
+        "registrations); need at least {}",
+        frames.time.size(), frames.fitted, frames.failed, frames.turning, frames.unregistered,
+        options.min_ground_frames);
+    if (options.keep_series) add_series(frames, nullptr, result);
+    result.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    return result;
+  }
+  add_ground(frames, options, result);
+
+  const double failed_share =
+      static_cast<double>(failed_registrations) / static_cast<double>(count);
+  std::optional<TrackAlignment> alignment;
+  if (failed_share > options.max_failed_registration_share) {
+    result.status = CalibrationStatus::kInsufficientData;
+    append_reason(
+        result,
+        fmt::format("yaw: the odometry failed on {} of {} sweeps (more than {:g} %), so "
+                    "its track cannot be trusted",
+                    failed_registrations, count, 100.0 * options.max_failed_registration_share));
+  } else {
+    alignment =
+        align_track(levelled_track(pass.steps, *result.roll, *result.pitch), options.alignment);
+    add_yaw(*alignment, options, result);
+  }
+  if (options.keep_series) add_series(frames, alignment ? &*alignment : nullptr, result);
+  result.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return result;
+}
+
+}  // namespace x2car::lidar

@@ -1,0 +1,89 @@
+// LiDAR -> car: roll, pitch and height from the ground plane, yaw from the odometry's track
+// (DESIGN §2, paper §III-B).
+//
+// One pass over the sweeps: they are read and, every `ground_every`-th, their ground plane fitted
+// in parallel, while the odometry registers them in order (a oneTBB pipeline), so a long log never
+// sits in memory. Then:
+//   - the ground planes of frames where the car is not turning give roll, pitch and height (their
+//     medians, so that the body's lean when braking and speeding up averages out);
+//   - the odometry poses are levelled with that roll and pitch and handed to the track alignment
+//     shared with the GNSS/INS calibrator (core/track_alignment.hpp): the heading of the
+//     spline-smoothed track against the levelled LiDAR's heading gives the yaw (the paper's), and
+//     the direction of the velocity in the levelled frame gives an independent yaw and pitch
+//     (non-holonomic cross-check). Disagreements are reported.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "x2car/core/calibration_result.hpp"
+#include "x2car/core/rotation.hpp"
+#include "x2car/core/track_alignment.hpp"
+#include "x2car/io/point_cloud.hpp"
+#include "x2car/lidar/ground.hpp"
+#include "x2car/lidar/odometry.hpp"
+#include "x2car/lidar/sweep_folder.hpp"
+
+namespace x2car::lidar {
+
+// Which yaw the result reports (both are always computed and kept in the diagnostics).
+enum class LidarYawMethod {
+  kAuto,               // the one with the smaller standard error
+  kTrackHeading,       // the paper's
+  kVelocityDirection,  // non-holonomic
+};
+
+// "auto", "track_heading", "velocity_direction"; parsing throws std::invalid_argument otherwise.
+const char* to_string(LidarYawMethod method);
+LidarYawMethod lidar_yaw_method_from_string(const std::string& text);
+
+struct LidarCalibrationOptions {
+  OdometryOptions odometry;
+  GroundOptions ground;
+  // The ground plane is fitted on every k-th sweep: neighbouring sweeps see nearly the same road,
+  // so more frames add time, not information.
+  int ground_every = 2;
+  // Frames turning faster than this (the odometry's angular rate) are not used for the ground
+  // [rad/s]: the body rolls on its suspension in proportion to the lateral acceleration.
+  double max_ground_turn_rate = 0.05;
+  // Per-frame outliers (a passing truck taken for the road, a ramp) are rejected by median/MAD.
+  OutlierRejectionOptions ground_outliers{.k = 3.0, .min_sigma = rad_from_deg(0.01)};
+  // Standard errors come from the spread of means over blocks this long [s]: neighbouring frames
+  // see the same stretch of road and are not independent.
+  double block_s = 5.0;
+  // Spline, gates and averaging of the yaw; see core/track_alignment.hpp.
+  TrackAlignmentOptions alignment;
+  LidarYawMethod yaw_method = LidarYawMethod::kAuto;
+  // Fewer sweeps than this, or fewer usable ground frames, is insufficient data.
+  std::size_t min_sweeps = 20;
+  std::size_t min_ground_frames = 10;
+  // More failed registrations than this share of the sweeps makes the yaw untrustworthy.
+  double max_failed_registration_share = 0.05;
+  // Two estimates of the same angle that differ by more than this many combined standard errors
+  // and by more than min_disagreement are reported in `reason`.
+  double disagreement_sigmas = 3.0;
+  double min_disagreement = rad_from_deg(0.05);  // [rad]
+  bool keep_series = true;  // per-frame ground normals, heights and heading offsets
+  std::uint64_t seed = 1;   // of the ground's RANSAC
+
+  // Throws std::invalid_argument naming the offending field.
+  void Check() const;
+};
+
+// The sweeps of a log: their times and how to read each. `read` is called from several threads at
+// once (each index once) and may throw InputError.
+struct SweepSource {
+  std::vector<double> times;  // [s], strictly increasing
+  std::function<io::PointCloud(std::size_t index)> read;
+};
+
+SweepSource sweep_source_from(const SweepFolder& folder);
+
+// Returns an ok result, or insufficient_data with a reason that says what is missing; never NaN
+// angles. InputError from `read` passes through; std::invalid_argument on invalid options.
+CalibrationResult calibrate_lidar(const SweepSource& sweeps,
+                                  const LidarCalibrationOptions& options = {});
+
+}  // namespace x2car::lidar

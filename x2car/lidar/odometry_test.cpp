@@ -1,0 +1,329 @@
+#include "x2car/lidar/odometry.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <limits>
+#include <random>
+
+#include "x2car/lidar/odometry_test_support.hpp"
+#include "x2car/lidar/se3.hpp"
+#include "x2car/lidar/voxel_downsample.hpp"
+#include "x2car/lidar/voxel_map.hpp"
+
+namespace x2car::lidar {
+namespace {
+
+using ::testing::HasSubstr;
+using testing::run_simulated_odometry;
+using testing::simulated_lidar_drive;
+
+// ---- constructed scenes ----------------------------------------------------------------------
+
+// Points on the walls, floor and ceiling of a 60 x 40 x 12 m hall around `sensor_in_hall`, with a
+// few pillars so that every direction is pinned, seen from the sensor (frame = hall axes, moved).
+io::PointCloud hall_sweep(const Eigen::Vector3d& sensor_in_hall, double spacing = 0.5) {
+  std::vector<Eigen::Vector3d> points;
+  const double x0 = -30, x1 = 30, y0 = -20, y1 = 20, z0 = -2, z1 = 10;
+  for (double a = x0; a <= x1; a += spacing) {
+    for (double b = y0; b <= y1; b += spacing) {
+      points.emplace_back(a, b, z0);
+      points.emplace_back(a, b, z1);
+    }
+    for (double c = z0; c <= z1; c += spacing) {
+      points.emplace_back(a, y0, c);
+      points.emplace_back(a, y1, c);
+    }
+  }
+  for (double b = y0; b <= y1; b += spacing) {
+    for (double c = z0; c <= z1; c += spacing) {
+      points.emplace_back(x0, b, c);
+      points.emplace_back(x1, b, c);
+    }
+  }
+  for (const Eigen::Vector2d& pillar : {Eigen::Vector2d(10, 8), Eigen::Vector2d(-12, -6)}) {
+    for (double angle = 0; angle < 2 * kPi; angle += 0.2) {
+      for (double c = z0; c <= z1; c += spacing) {
+        points.emplace_back(pillar.x() + 0.5 * std::cos(angle), pillar.y() + 0.5 * std::sin(angle),
+                            c);
+      }
+    }
+  }
+  io::PointCloud cloud;
+  for (const Eigen::Vector3d& p : points) {
+    const Eigen::Vector3d q = p - sensor_in_hall;
+    cloud.points.push_back(io::LidarPoint{static_cast<float>(q.x()), static_cast<float>(q.y()),
+                                          static_cast<float>(q.z()), 0.0f, 0, 0.0f});
+  }
+  return cloud;
+}
+
+// A flat floor 1.8 m below the sensor, nothing else.
+io::PointCloud floor_sweep() {
+  io::PointCloud cloud;
+  for (float x = -40; x <= 40; x += 0.4f) {
+    for (float y = -40; y <= 40; y += 0.4f) cloud.points.push_back({x, y, -1.8f, 0.0f, 0, 0.0f});
+  }
+  return cloud;
+}
+
+// ---- options ---------------------------------------------------------------------------------
+
+TEST(OdometryOptions, DefaultsPassAndBadFieldsAreNamed) {
+  EXPECT_NO_THROW(OdometryOptions{}.Check());
+  OdometryOptions options;
+  options.voxel_size_m = 0.0;
+  EXPECT_THAT([&] { options.Check(); },
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("voxel_size_m")));
+  options = {};
+  options.min_range_m = 200.0;
+  EXPECT_THAT([&] { LidarOdometry odometry(options); },
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("min_range_m")));
+  EXPECT_EQ(to_string(RegistrationStatus::kDegenerate), "degenerate");
+  EXPECT_EQ(to_string(RegistrationStatus::kOk), "ok");
+}
+
+// ---- building blocks -------------------------------------------------------------------------
+
+TEST(Se3, ExpAndLogAreInverseAndScrewMotionMatchesExp) {
+  Vector6d twist;
+  twist << 1.3, -0.4, 0.2, 0.05, -0.3, 0.9;
+  const Eigen::Isometry3d pose = se3_exp(twist);
+  EXPECT_TRUE(se3_log(pose).isApprox(twist, 1e-12));
+  // A screw: quarter turn about z while moving along x ends on the arc, not the chord.
+  Vector6d quarter;
+  quarter << kPi / 2, 0, 0, 0, 0, kPi / 2;
+  EXPECT_TRUE(se3_exp(quarter).translation().isApprox(Eigen::Vector3d(1, 1, 0), 1e-12));
+  const ScrewMotion motion(twist);
+  const Eigen::Vector3f point(20.0f, -5.0f, 1.0f);
+  for (const float tau : {-0.05f, 0.0f, 0.03f, 0.6f}) {
+    const Eigen::Vector3d expected = se3_exp(twist * tau) * point.cast<double>();
+    EXPECT_LT((motion.apply(point, tau).cast<double>() - expected).norm(), 1e-4) << tau;
+  }
+}
+
+TEST(VoxelDownsampler, KeepsTheFirstPointOfEachVoxel) {
+  const std::vector<Eigen::Vector3f> points = {
+      {0.1f, 0.1f, 0.1f}, {0.9f, 0.2f, 0.3f}, {1.1f, 0.1f, 0.1f}, {-0.1f, 0.1f, 0.1f}};
+  VoxelDownsampler downsampler;
+  std::vector<Eigen::Vector3f> kept;
+  downsampler.downsample(points, 1.0f, kept);
+  ASSERT_EQ(kept.size(), 3u);
+  EXPECT_EQ(kept[0], points[0]);
+  EXPECT_EQ(kept[1], points[2]);
+  EXPECT_EQ(kept[2], points[3]);
+  downsampler.downsample(points, 1.0f, kept);  // the table is reused, with nothing left over
+  EXPECT_EQ(kept.size(), 3u);
+}
+
+TEST(VoxelHashMap, ClosestPointMatchesBruteForceAfterRemovals) {
+  // A jittered 0.5 m lattice: 8 points per voxel, never two closer than the map's crowding limit
+  // (1 / sqrt(20) = 0.22 m), so that every point is kept.
+  std::mt19937 random(7);
+  std::uniform_real_distribution<float> jitter(-0.1f, 0.1f);
+  std::vector<Eigen::Vector3f> points;
+  for (int i = -20; i < 20; ++i) {
+    for (int j = -20; j < 20; ++j) {
+      for (int k = -20; k < 20; ++k) {
+        points.emplace_back(0.5f * static_cast<float>(i) + 0.25f + jitter(random),
+                            0.5f * static_cast<float>(j) + 0.25f + jitter(random),
+                            0.5f * static_cast<float>(k) + 0.25f + jitter(random));
+      }
+    }
+  }
+  VoxelHashMap map(1.0f, 20);
+  map.add_points(points);
+  EXPECT_EQ(map.point_count(), points.size());
+  map.add_points(points);  // the same points again are all too close to their twins
+  EXPECT_EQ(map.point_count(), points.size());
+  // Drop everything farther than 7 m from (2, 0, 0), then check every lookup still works.
+  const Eigen::Vector3f centre(2.0f, 0.0f, 0.0f);
+  map.remove_far_from(centre, 7.0f);
+  std::vector<Eigen::Vector3f> remaining;
+  for (const auto& p : points) {
+    const Eigen::Vector3f voxel_centre = p.array().floor() + 0.5f;
+    if ((voxel_centre - centre).norm() <= 7.0f) remaining.push_back(p);
+  }
+  EXPECT_EQ(map.point_count(), remaining.size());
+  EXPECT_LT(remaining.size(), points.size() / 2);
+  std::uniform_real_distribution<float> coordinate(-6.0f, 8.0f);
+  int exact = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const Eigen::Vector3f query(coordinate(random), coordinate(random) - 2.0f,
+                                coordinate(random) - 2.0f);
+    float best = std::numeric_limits<float>::infinity();
+    for (const auto& p : remaining) best = std::min(best, (p - query).squaredNorm());
+    Eigen::Vector3f closest;
+    float distance2 = 0.0f;
+    VoxelHashMap::Neighbourhood cache;
+    const bool found = map.closest_point(query, closest, distance2, cache);
+    // Exact whenever the true neighbour is within half a voxel; never closer than the truth.
+    if (best < 0.25f) {
+      ASSERT_TRUE(found);
+      EXPECT_FLOAT_EQ(distance2, best);
+      ++exact;
+    }
+    if (found) {
+      EXPECT_GE(distance2, best * (1.0f - 1e-6f));  // to rounding
+    }
+    // A second query through the cache gives the same answer.
+    float again = 0.0f;
+    map.closest_point(query, closest, again, cache);
+    EXPECT_EQ(again, distance2);
+  }
+  EXPECT_GT(exact, 1000);
+}
+
+// ---- failure is reported, not hidden ---------------------------------------------------------
+
+TEST(LidarOdometry, RecoversAKnownShiftInAHall) {
+  LidarOdometry odometry;
+  EXPECT_EQ(odometry.register_sweep(hall_sweep({0, 0, 0}), 0.0).status,
+            RegistrationStatus::kFirstSweep);
+  const OdometryStep step = odometry.register_sweep(hall_sweep({0.6, -0.3, 0.05}), 0.1);
+  EXPECT_EQ(step.status, RegistrationStatus::kOk) << to_string(step.status);
+  EXPECT_LT((step.world_from_lidar.translation() - Eigen::Vector3d(0.6, -0.3, 0.05)).norm(), 0.02);
+  EXPECT_LT(Eigen::AngleAxisd(step.world_from_lidar.linear()).angle(), rad_from_deg(0.1));
+  EXPECT_GT(step.translation_constraint, 0.01);
+}
+
+TEST(LidarOdometry, NonFinitePointsAreSkippedAndCounted) {
+  io::PointCloud sweep = hall_sweep({0, 0, 0});
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  sweep.points.push_back({nan, nan, nan, 0.0f, 0, 0.0f});
+  sweep.points.push_back({1.0f, inf, 0.0f, 0.0f, 0, 0.0f});
+  sweep.points.push_back({-inf, 2.0f, nan, 0.0f, 0, 0.0f});
+  LidarOdometry odometry;
+  EXPECT_EQ(odometry.register_sweep(sweep, 0.0).invalid_points, 3u);
+  const OdometryStep step = odometry.register_sweep(sweep, 0.1);
+  EXPECT_EQ(step.invalid_points, 3u);
+  EXPECT_EQ(step.status, RegistrationStatus::kOk);
+  EXPECT_TRUE(step.world_from_lidar.matrix().allFinite());
+}
+
+TEST(LidarOdometry, ASinglePlaneIsDegenerateAndKeepsThePrediction) {
+  LidarOdometry odometry;
+  odometry.register_sweep(floor_sweep(), 0.0);
+  const OdometryStep step = odometry.register_sweep(floor_sweep(), 0.1);
+  EXPECT_EQ(step.status, RegistrationStatus::kDegenerate) << to_string(step.status);
+  EXPECT_LT(step.translation_constraint, 0.001);
+  EXPECT_TRUE(step.world_from_lidar.isApprox(Eigen::Isometry3d::Identity()));  // the prediction
+}
+
+TEST(LidarOdometry, TooFewPointsAreReportedWithThePrediction) {
+  LidarOdometry odometry;
+  odometry.register_sweep(hall_sweep({0, 0, 0}), 0.0);
+  odometry.register_sweep(hall_sweep({0.5, 0, 0}), 0.1);  // 5 m/s along x
+  io::PointCloud few;
+  for (int i = 0; i < 20; ++i) few.points.push_back({10.0f + i, 3.0f, 0.0f, 0.0f, 0, 0.0f});
+  const OdometryStep step = odometry.register_sweep(few, 0.2);
+  EXPECT_EQ(step.status, RegistrationStatus::kTooFewPoints);
+  EXPECT_NEAR(step.world_from_lidar.translation().x(), 1.0, 0.03);  // constant velocity
+  const OdometryStep empty = odometry.register_sweep(io::PointCloud{}, 0.3);
+  EXPECT_EQ(empty.status, RegistrationStatus::kTooFewPoints);
+  EXPECT_NEAR(empty.world_from_lidar.translation().x(), 1.5, 0.05);
+  EXPECT_THROW(odometry.register_sweep(hall_sweep({0, 0, 0}), 0.1), std::invalid_argument);
+}
+
+// ---- simulated drives ------------------------------------------------------------------------
+
+// Every sweep after the first registers, and the drift over the drive stays within `percent`.
+void expect_drift_below(const testing::OdometryRun& run, double percent) {
+  if (std::getenv("X2CAR_ODOMETRY_DEBUG") != nullptr) {
+    for (std::size_t i = 1; i < run.steps.size(); ++i) {
+      const auto& s = run.steps[i];
+      const Eigen::Isometry3d est = run.estimate[i - 1].inverse() * run.estimate[i];
+      const Eigen::Isometry3d tru = run.truth[i - 1].inverse() * run.truth[i];
+      std::cout << i << " " << to_string(s.status) << " it " << s.iterations << " used "
+                << s.points_used << "/" << s.source_points << " thr " << s.threshold_m << " rms "
+                << s.rms_residual_m << " con " << s.translation_constraint << " "
+                << s.rotation_constraint << " est " << est.translation().transpose() << " true "
+                << tru.translation().transpose() << "\n";
+    }
+  }
+  for (std::size_t i = 1; i < run.steps.size(); ++i) {
+    EXPECT_EQ(run.steps[i].status, RegistrationStatus::kOk)
+        << "sweep " << i << ": " << to_string(run.steps[i].status);
+  }
+  DriftOptions options;
+  options.lengths_m = {25.0, 50.0, 100.0};
+  options.step = 1;
+  const Drift drift = relative_drift(run.estimate, run.truth, options);
+  ASSERT_GT(drift.segments, 0u) << "path " << drift.path_length_m << " m";
+  EXPECT_LT(drift.translation_percent, percent);
+  ::testing::Test::RecordProperty("translation_percent", std::to_string(drift.translation_percent));
+  std::cout << "drift " << drift.translation_percent << " %, " << drift.rotation_deg_per_100m
+            << " deg/100 m over " << drift.path_length_m << " m\n";
+}
+
+class OdometryDrift : public ::testing::TestWithParam<int> {};
+
+TEST_P(OdometryDrift, UrbanDriveStaysBelowOnePercent) {
+  const auto run =
+      run_simulated_odometry(simulated_lidar_drive(sim::Scenario::kUrban, 12.0, GetParam(), 3))
+          .front();
+  expect_drift_below(run, 1.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Beams, OdometryDrift, ::testing::Values(32, 64, 128));
+
+TEST(OdometryDeskew, HelpsThroughATurn) {
+  // 25 s of urban driving: a stop and a 90-degree turn at an intersection (up to 2.6 deg per
+  // sweep), where a sweep that is not deskewed is bent by the turn.
+  const auto drive = simulated_lidar_drive(sim::Scenario::kUrban, 25.0, 32, 3);
+  OdometryOptions no_deskew;
+  no_deskew.deskew = false;
+  const auto runs = run_simulated_odometry(drive, {OdometryOptions{}, no_deskew});
+  const auto& with_deskew = runs[0];
+  const auto& without_deskew = runs[1];
+  const double turn =
+      Eigen::AngleAxisd((with_deskew.truth.front().inverse() * with_deskew.truth.back()).linear())
+          .angle();
+  ASSERT_GT(deg_from_rad(turn), 80.0);
+  EXPECT_TRUE(with_deskew.steps.back().deskewed);
+  EXPECT_FALSE(without_deskew.steps.back().deskewed);
+  DriftOptions lengths;
+  lengths.lengths_m = {25.0, 50.0, 100.0};
+  lengths.step = 1;
+  const Drift with = relative_drift(with_deskew.estimate, with_deskew.truth, lengths);
+  const Drift without = relative_drift(without_deskew.estimate, without_deskew.truth, lengths);
+  std::cout << "deskewed " << with.translation_percent << " %, " << with.rotation_deg_per_100m
+            << " deg/100 m; not " << without.translation_percent << " %, "
+            << without.rotation_deg_per_100m << " deg/100 m\n";
+  EXPECT_LT(with.translation_percent, 0.5 * without.translation_percent);
+  EXPECT_LT(with.rotation_deg_per_100m, 0.5 * without.rotation_deg_per_100m);
+  // Poses refer to the middle of the sweep (t in [0, 0.1) s at 10 Hz).
+  EXPECT_NEAR(with_deskew.steps[5].deskew_time_s, 0.05, 0.001);
+}
+
+TEST(OdometrySpeed, AStraightDriveRecoversTheSpeed) {
+  // The car pulls away from a standstill and cruises at 50-70 km/h. Speeds over 1 s (10 sweeps):
+  // single sweeps scatter by ~1 cm along the road, which is the registration's noise, not drift.
+  // The first 2 s (pulling away, when the first sweeps lack a velocity to deskew with and the
+  // 1-s windows hold centimetre errors) are left out.
+  const auto run =
+      run_simulated_odometry(simulated_lidar_drive(sim::Scenario::kStraight, 8.0, 32, 2)).front();
+  constexpr std::size_t kWindow = 10;
+  double worst = 0.0;
+  double top_speed = 0.0;
+  for (std::size_t i = 1; i < run.steps.size(); ++i) {
+    ASSERT_EQ(run.steps[i].status, RegistrationStatus::kOk) << i;
+    if (i < 20) continue;
+    const double dt = run.steps[i].time - run.steps[i - kWindow].time;
+    const auto speed = [&](const std::vector<Eigen::Isometry3d>& poses) {
+      return (poses[i].translation() - poses[i - kWindow].translation()).norm() / dt;
+    };
+    worst = std::max(worst, std::abs(speed(run.estimate) - speed(run.truth)));
+    top_speed = std::max(top_speed, speed(run.truth));
+  }
+  std::cout << "top speed " << top_speed << " m/s, worst error over 1 s " << worst << " m/s\n";
+  EXPECT_GT(top_speed, 10.0);
+  EXPECT_LT(worst, 0.05);  // [m/s]
+}
+
+}  // namespace
+}  // namespace x2car::lidar
