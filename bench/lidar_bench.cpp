@@ -8,7 +8,7 @@
 #include <filesystem>
 
 #include "x2car/lidar/odometry_error.hpp"
-#include "x2car/lidar/odometry_test_support.hpp"
+#include "x2car/lidar/test_drives.hpp"
 #include "x2car/sim/lidar_writer.hpp"
 #include "x2car/sim/simulation.hpp"
 

@@ -7,13 +7,11 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <memory>
 
 #include "x2car/lidar/lidar_calibration.hpp"
 #include "x2car/lidar/sweep_folder.hpp"
-#include "x2car/sim/lidar_model.hpp"
+#include "x2car/lidar/test_drives.hpp"
 #include "x2car/sim/simulation.hpp"
-#include "x2car/sim/world_scene.hpp"
 
 namespace x2car {
 namespace {
@@ -55,19 +53,11 @@ void BM_LidarAccuracy(benchmark::State& state) {
   double max_roll = 0.0, max_pitch = 0.0, max_yaw = 0.0, max_height = 0.0;
   for (auto _ : state) {
     for (std::uint64_t seed = 1; seed <= 5; ++seed) {
-      const sim::Simulation simulation = sim::simulate(urban_drive(seed, beams));
-      const io::SensorMounting& truth = simulation.truth.vehicle_from_sensor.at("lidar");
-      const sim::WorldScene scene(simulation.world);
-      const sim::LidarSimulator lidar(scene, simulation.states, truth.vehicle_from_sensor(),
-                                      simulation.lidar->options, simulation.lidar->seed);
-      lidar::SweepSource source;
-      for (std::size_t i = 0; i < lidar.sweep_count(); ++i) {
-        source.times.push_back(lidar.sweep_start_time(i));
-      }
-      source.read = [&lidar](std::size_t index) { return lidar.sweep(index).cloud; };
+      const lidar::testing::SimulatedLidarDrive drive(urban_drive(seed, beams));
+      const io::SensorMounting& truth = drive.truth();
       lidar::LidarCalibrationOptions options;
       options.keep_series = false;
-      const CalibrationResult result = lidar::calibrate_lidar(source, options);
+      const CalibrationResult result = lidar::calibrate_lidar(drive.source(), options);
       if (!result.roll || !result.pitch || !result.yaw || !result.z) {
         state.SkipWithError(result.reason.c_str());
         return;

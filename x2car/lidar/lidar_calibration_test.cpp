@@ -7,9 +7,7 @@
 #include <cmath>
 
 #include "x2car/core/test_matchers.hpp"
-#include "x2car/sim/lidar_model.hpp"
-#include "x2car/sim/simulation.hpp"
-#include "x2car/sim/world_scene.hpp"
+#include "x2car/lidar/test_drives.hpp"
 
 namespace x2car::lidar {
 namespace {
@@ -17,44 +15,15 @@ namespace {
 using ::testing::HasSubstr;
 using x2car::testing::AngleNearDeg;
 
-// A simulated drive with its LiDAR, whose sweeps are made on demand (as a folder would be read).
-class SimulatedLidarDrive {
- public:
-  SimulatedLidarDrive(sim::Scenario scenario, double duration_s, std::uint64_t seed, int beams,
-                      const EulerAngles& mounting_angles, double height_m) {
-    sim::SimulationOptions options;
-    options.scenario = scenario;
-    options.duration_s = duration_s;
-    options.seed = seed;
-    options.sensors = {"lidar"};
-    options.lidar.beams = beams;
-    options.mountings["lidar"] = {Eigen::Vector3d(1.2, 0.0, height_m), mounting_angles};
-    simulation_ = sim::simulate(options);
-    scene_ = std::make_unique<sim::WorldScene>(simulation_.world);
-    lidar_ = std::make_unique<sim::LidarSimulator>(
-        *scene_, simulation_.states,
-        simulation_.truth.vehicle_from_sensor.at("lidar").vehicle_from_sensor(),
-        simulation_.lidar->options, simulation_.lidar->seed);
-  }
+using testing::SimulatedLidarDrive;
 
-  SweepSource source() const {
-    SweepSource source;
-    for (std::size_t i = 0; i < lidar_->sweep_count(); ++i) {
-      source.times.push_back(lidar_->sweep_start_time(i));
-    }
-    source.read = [this](std::size_t index) { return lidar_->sweep(index).cloud; };
-    return source;
-  }
-
-  const io::SensorMounting& truth() const {
-    return simulation_.truth.vehicle_from_sensor.at("lidar");
-  }
-
- private:
-  sim::Simulation simulation_;
-  std::unique_ptr<sim::WorldScene> scene_;
-  std::unique_ptr<sim::LidarSimulator> lidar_;
-};
+SimulatedLidarDrive lidar_drive(sim::Scenario scenario, double duration_s, std::uint64_t seed,
+                                int beams, const EulerAngles& mounting_angles, double height_m) {
+  sim::SimulationOptions options =
+      testing::simulated_lidar_drive(scenario, duration_s, beams, seed);
+  options.mountings["lidar"] = {Eigen::Vector3d(1.2, 0.0, height_m), mounting_angles};
+  return SimulatedLidarDrive(options);
+}
 
 void expect_mounting(const CalibrationResult& result, const io::SensorMounting& truth,
                      double angle_tolerance_deg, double height_tolerance_m) {
@@ -73,8 +42,9 @@ void expect_mounting(const CalibrationResult& result, const io::SensorMounting& 
 
 // Sign checks of DESIGN §1: a LiDAR yawed left, pitched down and rolled reports those signs.
 TEST(LidarCalibration, RecoversTheMountingOnAnUrbanDrive) {
-  const SimulatedLidarDrive drive(sim::Scenario::kUrban, 40.0, 3, 32,
-                                  {rad_from_deg(1.5), rad_from_deg(2.0), rad_from_deg(3.0)}, 1.9);
+  const SimulatedLidarDrive drive =
+      lidar_drive(sim::Scenario::kUrban, 40.0, 3, 32,
+                  {rad_from_deg(1.5), rad_from_deg(2.0), rad_from_deg(3.0)}, 1.9);
   // 40 s of urban driving holds about 13 s of straight runs; the default asks for 20 s.
   LidarCalibrationOptions options;
   options.alignment.min_valid_duration_s = 10.0;
@@ -88,9 +58,9 @@ TEST(LidarCalibration, RecoversTheMountingOnAnUrbanDrive) {
 }
 
 TEST(LidarCalibration, NegativeAnglesKeepTheirSign) {
-  const SimulatedLidarDrive drive(sim::Scenario::kStraight, 30.0, 5, 32,
-                                  {rad_from_deg(-2.0), rad_from_deg(-1.0), rad_from_deg(-4.0)},
-                                  1.6);
+  const SimulatedLidarDrive drive =
+      lidar_drive(sim::Scenario::kStraight, 30.0, 5, 32,
+                  {rad_from_deg(-2.0), rad_from_deg(-1.0), rad_from_deg(-4.0)}, 1.6);
   const CalibrationResult result = calibrate_lidar(drive.source());
   expect_mounting(result, drive.truth(), 0.1, 0.02);
 }

@@ -9,8 +9,8 @@
 #include <limits>
 #include <random>
 
-#include "x2car/lidar/odometry_test_support.hpp"
 #include "x2car/lidar/se3.hpp"
+#include "x2car/lidar/test_drives.hpp"
 #include "x2car/lidar/voxel_downsample.hpp"
 #include "x2car/lidar/voxel_map.hpp"
 

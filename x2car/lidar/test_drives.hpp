@@ -1,5 +1,5 @@
-// Runs the odometry on a simulated drive and compares it with the simulator's truth: shared by
-// odometry_test.cpp and bench/lidar_bench.cpp.
+// Simulated LiDAR drives for the LiDAR tests and benches: the sweeps of a drive made on demand
+// (SimulatedLidarDrive), and the odometry run on them against the simulator's truth.
 #pragma once
 
 #include <tbb/parallel_for.h>
@@ -9,6 +9,7 @@
 #include <chrono>
 #include <vector>
 
+#include "x2car/lidar/lidar_calibration.hpp"
 #include "x2car/lidar/odometry.hpp"
 #include "x2car/lidar/odometry_error.hpp"
 #include "x2car/sim/lidar_model.hpp"
@@ -28,6 +29,40 @@ inline sim::SimulationOptions simulated_lidar_drive(sim::Scenario scenario, doub
   return options;
 }
 
+// A simulated drive and its LiDAR, whose sweeps are made when asked for (thread-safe), as a folder
+// of files would be read.
+class SimulatedLidarDrive {
+ public:
+  explicit SimulatedLidarDrive(const sim::SimulationOptions& drive)
+      : simulation_(sim::simulate(drive)),
+        scene_(simulation_.world),
+        lidar_(scene_, simulation_.states, truth().vehicle_from_sensor(),
+               simulation_.lidar->options, simulation_.lidar->seed) {}
+  // The scene and the LiDAR refer to the simulation's members: the drive stays where it was made.
+  SimulatedLidarDrive(const SimulatedLidarDrive&) = delete;
+  SimulatedLidarDrive& operator=(const SimulatedLidarDrive&) = delete;
+
+  const sim::LidarSimulator& lidar() const { return lidar_; }
+  const io::SensorMounting& truth() const {
+    return simulation_.truth.vehicle_from_sensor.at("lidar");
+  }
+
+  // The sweeps as the calibrator reads them; valid while this drive lives.
+  SweepSource source() const {
+    SweepSource source;
+    for (std::size_t i = 0; i < lidar_.sweep_count(); ++i) {
+      source.times.push_back(lidar_.sweep_start_time(i));
+    }
+    source.read = [this](std::size_t index) { return lidar_.sweep(index).cloud; };
+    return source;
+  }
+
+ private:
+  sim::Simulation simulation_;
+  sim::WorldScene scene_;
+  sim::LidarSimulator lidar_;
+};
+
 struct OdometryRun {
   std::vector<OdometryStep> steps;
   std::vector<Eigen::Isometry3d> estimate;  // world_from_lidar per sweep
@@ -40,12 +75,8 @@ struct OdometryRun {
 // with one odometry per options (the sweeps are made once for all).
 inline std::vector<OdometryRun> run_simulated_odometry(
     const sim::SimulationOptions& drive, const std::vector<OdometryOptions>& options = {{}}) {
-  const sim::Simulation simulation = sim::simulate(drive);
-  const sim::WorldScene scene(simulation.world);
-  const sim::LidarSimulator lidar(
-      scene, simulation.states,
-      simulation.truth.vehicle_from_sensor.at("lidar").vehicle_from_sensor(),
-      simulation.lidar->options, simulation.lidar->seed);
+  const SimulatedLidarDrive simulated(drive);
+  const sim::LidarSimulator& lidar = simulated.lidar();
   std::vector<LidarOdometry> odometries;
   for (const OdometryOptions& o : options) odometries.emplace_back(o);
   std::vector<OdometryRun> runs(options.size());
