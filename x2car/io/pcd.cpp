@@ -193,6 +193,9 @@ class DataReader {
 
   PointCloud read() {
     const std::size_t n = header_.points;
+    // Before anything is allocated for them: a header may claim far more points than the file
+    // holds (a truncated file, or a corrupt POINTS), and n points cost 24 bytes each in memory.
+    check_points_fit();
     cloud_.points.resize(n);
     cloud_.has_intensity = used_.intensity.has_value();
     cloud_.has_ring = used_.ring.has_value();
@@ -239,19 +242,52 @@ class DataReader {
                      fmt::format("point {}: ring {} is not an integer in [0, 65535]", point, ring));
   }
 
-  [[noreturn]] void truncated(std::size_t available_bytes, std::size_t needed_bytes) const {
+  [[noreturn]] void truncated(std::size_t available_bytes, std::size_t needed_points) const {
     throw InputError(
         file_, header_.data_line, "DATA",
-        fmt::format("the data is truncated: {} bytes for POINTS {} need {} ({} "
-                    "complete points)",
-                    available_bytes, header_.points, needed_bytes,
-                    header_.point_bytes == 0 ? 0 : available_bytes / header_.point_bytes));
+        fmt::format("the data is truncated: {} bytes hold {} complete points of {} "
+                    "bytes; POINTS is {}",
+                    available_bytes,
+                    header_.point_bytes == 0 ? 0 : available_bytes / header_.point_bytes,
+                    header_.point_bytes, needed_points));
+  }
+
+  // Throws unless the data section can hold header_.points points. Sizes are compared by division,
+  // so a huge POINTS cannot wrap a product around.
+  void check_points_fit() const {
+    const std::string_view data = bytes_.substr(header_.data_offset);
+    const std::size_t n = header_.points;
+    switch (header_.data) {
+      case DataKind::kBinary:
+        if (header_.point_bytes > 0 && n > data.size() / header_.point_bytes) {
+          truncated(data.size(), n);
+        }
+        return;
+      case DataKind::kBinaryCompressed:
+        // The unpacked size is a uint32: more points than it can describe are corrupt.
+        if (header_.point_bytes > 0 &&
+            n > std::numeric_limits<std::uint32_t>::max() / header_.point_bytes) {
+          throw InputError(file_, header_.data_line, "DATA",
+                           fmt::format("POINTS {} of {} bytes each cannot be binary_compressed "
+                                       "(more than 4 GiB unpacked)",
+                                       n, header_.point_bytes));
+        }
+        return;
+      case DataKind::kAscii:
+        // A point takes several bytes of text, so more points than bytes is surely wrong; a claim
+        // short of that is caught point by point, with the count that came.
+        if (n > data.size()) {
+          throw InputError(file_, header_.data_line, "DATA",
+                           fmt::format("the ascii data ({} bytes) cannot hold POINTS {}: the file "
+                                       "is truncated or POINTS is wrong",
+                                       data.size(), n));
+        }
+        return;
+    }
   }
 
   void read_binary() {
     const std::string_view data = bytes_.substr(header_.data_offset);
-    const std::size_t needed = header_.points * header_.point_bytes;
-    if (data.size() < needed) truncated(data.size(), needed);
     for_used([&](std::size_t f, auto store) {
       const PcdField& field = header_.fields[f];
       decode_column(data.data() + field.offset, header_.point_bytes, header_.points, field, store);
@@ -261,7 +297,11 @@ class DataReader {
   void read_compressed() {
     const std::string_view data = bytes_.substr(header_.data_offset);
     const std::size_t needed = header_.points * header_.point_bytes;
-    if (data.size() < 8) truncated(data.size(), 8);
+    if (data.size() < 8) {
+      throw InputError(
+          file_, header_.data_line, "DATA",
+          fmt::format("binary_compressed data of {} bytes lacks its 8-byte sizes", data.size()));
+    }
     std::uint32_t compressed_size = 0, uncompressed_size = 0;
     std::memcpy(&compressed_size, data.data(), 4);
     std::memcpy(&uncompressed_size, data.data() + 4, 4);
@@ -270,7 +310,12 @@ class DataReader {
                        fmt::format("binary_compressed data unpacks to {} bytes; POINTS {} need {}",
                                    uncompressed_size, header_.points, needed));
     }
-    if (data.size() - 8 < compressed_size) truncated(data.size() - 8, compressed_size);
+    if (data.size() - 8 < compressed_size) {
+      throw InputError(file_, header_.data_line, "DATA",
+                       fmt::format("the data is truncated: {} bytes of LZF data, the header of "
+                                   "the block says {}",
+                                   data.size() - 8, compressed_size));
+    }
     std::vector<char> fields(needed);
     if (needed > 0 && lzf_decompress(data.data() + 8, compressed_size, fields.data(),
                                      static_cast<unsigned>(needed)) != needed) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <limits>
 #include <optional>
 
 #include "x2car/core/error.hpp"
@@ -139,6 +140,11 @@ class HeaderParser {
       header_.tokens += field.count;
     }
     if (header_.width_line == 0) fail_at(header_.data_line, "WIDTH", "no WIDTH line before DATA");
+    if (header_.height != 0 &&
+        header_.width > std::numeric_limits<std::size_t>::max() / header_.height) {
+      fail_at(header_.width_line, "WIDTH", "WIDTH x HEIGHT = {} x {} is too large", header_.width,
+              header_.height);
+    }
     header_.points = header_.width * header_.height;
     if (points && *points != header_.points) {
       fail_at(header_.points_line, "POINTS", "POINTS {} but WIDTH x HEIGHT = {} x {}", *points,

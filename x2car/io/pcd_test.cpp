@@ -129,6 +129,23 @@ TEST(Pcd, TruncatedBinaryDataNamesTheDataLine) {
   }
 }
 
+// A header that claims billions of points is refused before memory is allocated for them (it
+// used to allocate 24 bytes a point first: gigabytes, or std::bad_alloc with no file named).
+TEST(Pcd, HugePointCountsAreRefusedBeforeAllocating) {
+  for (const std::string data : {"binary", "binary_compressed", "ascii"}) {
+    const std::string text =
+        "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 3000000000\nHEIGHT 1\n"
+        "DATA " +
+        data + "\n0 0 0\n";
+    const InputError error =
+        expect_input_error([&] { parse_pcd(text, "huge.pcd"); }, "huge.pcd", 6, "DATA");
+    EXPECT_THAT(error.what(), HasSubstr("3000000000")) << data;
+  }
+  const std::string wrapping =
+      "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 4294967296\nHEIGHT 4294967296\nDATA binary\n";
+  expect_input_error([&] { parse_pcd(wrapping, "wrap.pcd"); }, "wrap.pcd", 4, "WIDTH");
+}
+
 TEST(Pcd, TruncatedAsciiDataSaysHowManyPointsCame) {
   const std::string text =
       "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 3\nHEIGHT 1\nDATA ascii\n"

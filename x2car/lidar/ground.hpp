@@ -7,7 +7,7 @@
 //      max_lateral_m sideways, and low enough to be road under a LiDAR mounted min_height_m ..
 //      max_height_m above it and tilted at most max_tilt (walls, cars and trees above the road
 //      are dropped before any fit); NaN/inf points are skipped and counted;
-//   2. multi-start RANSAC on a fixed-stride subsample of those points: each start draws its own
+//   2. multi-start RANSAC on a seeded random subsample of those points: each start draws its own
 //      seeded stream of 3-point planes and keeps the best by the MSAC score (truncated squared
 //      distance), planes tilted beyond max_tilt are never considered;
 //   3. random search around the best plane: perturb its normal and offset by shrinking random
@@ -51,7 +51,8 @@ struct GroundOptions {
   // road grade and crossfall plus body roll and pitch. Planes tilted more are rejected.
   double max_tilt = rad_from_deg(12.0);
 
-  // RANSAC scores planes against at most this many filtered points, taken at a fixed stride.
+  // RANSAC scores planes against at most this many filtered points, drawn at random (seeded):
+  // a fixed stride could line up with the beams' order.
   std::size_t max_candidates = 2048;
   int ransac_starts = 4;          // independent RANSAC runs, each with its own seeded stream
   int ransac_iterations = 24;     // 3-point planes drawn per start

@@ -388,7 +388,10 @@ void LidarCalibrationOptions::Check() const {
 SweepSource sweep_source_from(const SweepFolder& folder) {
   SweepSource source;
   for (const SweepFile& sweep : folder.sweeps) source.times.push_back(sweep.time);
-  source.read = [&folder](std::size_t index) { return read_sweep(folder, folder.sweeps[index]); };
+  // A copy: the source may outlive the folder it was made from.
+  source.read = [folder = std::make_shared<const SweepFolder>(folder)](std::size_t index) {
+    return read_sweep(*folder, folder->sweeps[index]);
+  };
   return source;
 }
 

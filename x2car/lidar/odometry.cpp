@@ -32,6 +32,7 @@ void OdometryOptions::Check() const {
   require(point_to_point_weight >= 0.0, "point_to_point_weight", "must be >= 0");
   require(max_iterations >= 1, "max_iterations", "must be >= 1");
   require(convergence > 0.0, "convergence", "must be > 0");
+  require(max_sweep_span_s > 0.0, "max_sweep_span_s", "must be > 0");
   require(max_final_update >= convergence, "max_final_update", "must be >= convergence");
   require(min_points >= 6, "min_points", "must be >= 6");
   require(min_translation_constraint >= 0.0 && min_translation_constraint <= 1.0 / 3.0,
@@ -76,7 +77,8 @@ void LidarOdometry::preprocess(const io::PointCloud& sweep, OdometryStep& step) 
   float t_max = -std::numeric_limits<float>::infinity();
   for (const io::LidarPoint& p : sweep.points) {
     const Eigen::Vector3f point(p.x, p.y, p.z);
-    if (!point.allFinite()) {
+    // A NaN time would deskew the point to NaN, and NaN has no voxel.
+    if (!point.allFinite() || (sweep.has_time && !std::isfinite(p.t))) {
       ++step.invalid_points;
       continue;
     }
@@ -90,7 +92,9 @@ void LidarOdometry::preprocess(const io::PointCloud& sweep, OdometryStep& step) 
       frame_times_.push_back(p.t);
     }
   }
-  if (!sweep.has_time || frame_.empty() || !std::isfinite(t_min) || !std::isfinite(t_max)) {
+  // Times spanning more than a sweep can last are in another unit or broken: deskewing along them
+  // would throw the points far away, so the sweep is taken as it is.
+  if (!sweep.has_time || frame_.empty() || !(t_max - t_min <= options_.max_sweep_span_s)) {
     return;
   }
   step.deskew_time_s = 0.5 * (static_cast<double>(t_min) + static_cast<double>(t_max));

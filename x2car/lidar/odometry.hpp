@@ -65,6 +65,9 @@ struct OdometryOptions {
   // converged; one creeping by less (millimetre steps as nearest neighbours swap) is accepted.
   double max_final_update = 1e-2;
   bool deskew = true;  // used only when the sweep has per-point times
+  // Per-point times spanning more than this are not trusted (another unit, or broken): the sweep
+  // is then taken as it is, not deskewed [s].
+  double max_sweep_span_s = 1.0;
   // A registration needs at least this many downsampled points and correspondences.
   std::size_t min_points = 100;
   // Degeneracy (registration.hpp, constraint_strength): the weakest direction of translation or
@@ -104,7 +107,8 @@ struct OdometryStep {
   double rms_residual_m = 0.0;  // of the correspondences (normal distance on planes) [m]
 
   // Within-sweep time the points were deskewed to [s]: the middle of the span of their `t`, or 0
-  // when the sweep has no per-point time (then nothing is deskewed).
+  // when the sweep has no per-point time or they span more than max_sweep_span_s (then nothing
+  // is deskewed).
   double deskew_time_s = 0.0;
   bool deskewed = false;           // false also for the first two sweeps (no velocity yet)
   std::size_t invalid_points = 0;  // NaN or infinite coordinates, skipped

@@ -205,6 +205,32 @@ TEST(LidarOdometry, NonFinitePointsAreSkippedAndCounted) {
   EXPECT_TRUE(step.world_from_lidar.matrix().allFinite());
 }
 
+// A NaN per-point time used to deskew its point to NaN and put it into the map; times spanning
+// far more than a sweep (another unit) would throw the points far away when deskewed.
+TEST(LidarOdometry, BrokenPointTimesAreSkippedOrNotTrusted) {
+  LidarOdometry odometry;
+  for (int k = 0; k < 4; ++k) {
+    io::PointCloud sweep = hall_sweep({0.5 * k, 0, 0});
+    sweep.has_time = true;
+    for (std::size_t i = 0; i < sweep.points.size(); ++i) {
+      sweep.points[i].t = 0.1f * static_cast<float>(i) / static_cast<float>(sweep.points.size());
+    }
+    sweep.points[7].t = std::numeric_limits<float>::quiet_NaN();
+    if (k == 3) sweep.points[9].t = 1e6f;  // nanoseconds read as seconds, say
+    const OdometryStep step = odometry.register_sweep(sweep, 0.1 * k);
+    EXPECT_EQ(step.invalid_points, 1u) << k;
+    EXPECT_TRUE(step.world_from_lidar.matrix().allFinite()) << k;
+    if (k == 2) {
+      EXPECT_TRUE(step.deskewed);
+    }
+    if (k == 3) {
+      EXPECT_FALSE(step.deskewed);
+      EXPECT_EQ(step.deskew_time_s, 0.0);
+      EXPECT_EQ(step.status, RegistrationStatus::kOk) << to_string(step.status);
+    }
+  }
+}
+
 TEST(LidarOdometry, ASinglePlaneIsDegenerateAndKeepsThePrediction) {
   LidarOdometry odometry;
   odometry.register_sweep(floor_sweep(), 0.0);

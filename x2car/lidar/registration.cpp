@@ -47,12 +47,6 @@ struct NormalEquationSums {
   }
 };
 
-Eigen::Matrix3d hat(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return m;
-}
-
 // Geman-McClure weight: rho(r) = (kappa^2 r^2 / 2) / (kappa^2 + r^2) gives the IRLS weight
 // rho'(r) / r = (kappa^2 / (kappa^2 + r^2))^2 (KISS-ICP Eq. 10-11).
 double geman_mcclure_weight(double residual2, double kappa2) {

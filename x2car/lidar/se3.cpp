@@ -3,15 +3,11 @@
 #include <cmath>
 
 namespace x2car::lidar {
-namespace {
-
 Eigen::Matrix3d hat(const Eigen::Vector3d& v) {
   Eigen::Matrix3d m;
   m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
   return m;
 }
-
-}  // namespace
 
 Eigen::Isometry3d se3_exp(const Vector6d& twist) {
   const Eigen::Vector3d rho = twist.head<3>();

@@ -16,6 +16,9 @@ namespace x2car::lidar {
 
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 
+// The skew-symmetric matrix [v]x, with [v]x u = v x u.
+Eigen::Matrix3d hat(const Eigen::Vector3d& v);
+
 Eigen::Isometry3d se3_exp(const Vector6d& twist);
 Vector6d se3_log(const Eigen::Isometry3d& pose);
 

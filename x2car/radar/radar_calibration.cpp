@@ -223,8 +223,9 @@ void RadarPositionMethodOptions::Check() const {
   require(triangle_sigmas > 0.0, "position.triangle_sigmas must be > 0");
   require(min_static_fraction > 0.0 && min_static_fraction <= 1.0,
           "position.min_static_fraction must be in (0, 1]");
-  require(min_confidence >= 0.0 && min_confidence < 1.0,
-          "position.min_confidence must be in [0, 1)");
+  // A pair kept at confidence 0 would have weight 0: all such pairs leave no weighted mean.
+  require(min_confidence > 0.0 && min_confidence < 1.0,
+          "position.min_confidence must be in (0, 1)");
   require(min_abs_cos > 0.0 && min_abs_cos <= 1.0, "position.min_abs_cos must be in (0, 1]");
   require(outlier_sigmas > 0.0, "position.outlier_sigmas must be > 0");
   require(min_static_objects >= 1, "position.min_static_objects must be >= 1");

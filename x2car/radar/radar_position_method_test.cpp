@@ -270,6 +270,9 @@ TEST(RadarPositionMethod, OptionsAreChecked) {
   options = {};
   options.automatic.agreement_sigmas = -1.0;
   EXPECT_THROW(options.Check(), std::invalid_argument);
+  options = {};
+  options.position.min_confidence = 0.0;  // pairs of weight 0 would leave no weighted mean
+  EXPECT_THROW(options.Check(), std::invalid_argument);
   EXPECT_EQ(radar_method_from_string("position"), RadarMethod::kPosition);
 }
 
