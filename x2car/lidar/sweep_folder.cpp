@@ -130,16 +130,27 @@ SweepFolder list_pcd(const fs::path& folder, std::vector<fs::path> files, std::s
     result.sweeps = attach_times_file(files, times_path);
     result.time_source = times_path.string();
   } else {
+    bool from_points = false;
     for (const fs::path& file : files) {
-      const std::optional<double> time = time_from_stem(file.stem().string());
+      std::optional<double> time = time_from_stem(file.stem().string());
+      if (!time) {
+        // The last resort: absolute per-point stamps (pcd.hpp sets time_base from them), at the
+        // cost of reading the file twice.
+        const io::PointCloud cloud = io::read_pcd(file);
+        if (cloud.time_base > 0.0) {
+          time = cloud.time_base;
+          from_points = true;
+        }
+      }
       if (!time) {
         throw InputError(file.string(),
                          "the name is not a time (seconds with a fraction, e.g. 000012.300000.pcd, "
-                         "or 16+ digits of nanoseconds) and there is no times.txt beside it");
+                         "or 16+ digits of nanoseconds), its points hold no absolute times, and "
+                         "there is no times.txt beside it");
       }
       result.sweeps.push_back({file, *time});
     }
-    result.time_source = "file names";
+    result.time_source = from_points ? "file names and per-point times" : "file names";
   }
   sort_and_check(result.sweeps);
   return result;

@@ -4,7 +4,8 @@
 //   - PCD files (`*.pcd`, any case), one sweep each, named by the sweep's time: seconds with a
 //     fraction ("000012.300000.pcd", "1541234567.123456.pcd") or whole nanoseconds since an epoch
 //     (16 digits or more: "1541234567123456789.pcd"); or any names plus a `times.txt` beside them
-//     with one time [s] per file in name order; or
+//     with one time [s] per file in name order; or any names, when the points hold absolute times
+//     (Unix or GPS seconds, io/pcd.hpp): the earliest point's time is the sweep's; or
 //   - KITTI scans: `velodyne/*.bin` with `times.txt` (one time [s] per scan, in name order) in the
 //     folder itself.
 // A simulate-style drive folder is accepted too: its `lidar/` subfolder is used. Other files are

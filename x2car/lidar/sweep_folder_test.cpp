@@ -67,6 +67,23 @@ TEST(SweepFolder, TakesPcdTimesFromATimesFileInNameOrder) {
   EXPECT_THAT(times_of(sweeps), ElementsAre(0.1, 0.2));
 }
 
+TEST(SweepFolder, TakesPcdTimesFromAbsolutePointTimesWhenNamesAreNotTimes) {
+  const fs::path folder = fresh_folder("pcd_point_times");
+  // Absolute stamps (Unix seconds) in a `t` of 8-byte floats; the later-named file is earlier.
+  const auto sweep_at = [](const std::string& start) {
+    return "FIELDS x y z t\nSIZE 4 4 4 8\nTYPE F F F F\nWIDTH 2\nHEIGHT 1\nDATA ascii\n1 0 -1.8 " +
+           start + "5\n2 0 -1.8 " + start + "\n";
+  };
+  io::write_text_file(folder / "b.pcd", sweep_at("1700000000.5"));
+  io::write_text_file(folder / "a_later_name.pcd", sweep_at("1700000000.4"));
+  const SweepFolder sweeps = list_sweeps(folder);
+  EXPECT_EQ(sweeps.time_source, "file names and per-point times");
+  ASSERT_EQ(sweeps.sweeps.size(), 2u);
+  EXPECT_EQ(sweeps.sweeps[0].path.filename(), "a_later_name.pcd");
+  EXPECT_NEAR(sweeps.sweeps[0].time, 1700000000.4, 1e-6);
+  EXPECT_NEAR(sweeps.sweeps[1].time, 1700000000.5, 1e-6);
+}
+
 TEST(SweepFolder, ReadsKittiScansFromADriveFolder) {
   const fs::path drive = fresh_folder("kitti_drive");
   const fs::path lidar = drive / "lidar";
