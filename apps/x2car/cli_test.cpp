@@ -11,6 +11,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace x2car::cli {
@@ -24,8 +25,11 @@ struct CliRun {
   std::string output;  // stdout and stderr together
 };
 
-CliRun run_x2car(const std::string& arguments) {
-  const std::string command = std::string(X2CAR_BINARY) + " " + arguments + " 2>&1";
+// With `timeout_s` > 0 the run is killed after that long (coreutils `timeout`, exit code 124), so
+// that a test of a command that must not hang fails instead of hanging.
+CliRun run_x2car(const std::string& arguments, int timeout_s = 0) {
+  const std::string limit = timeout_s > 0 ? "timeout " + std::to_string(timeout_s) + " " : "";
+  const std::string command = limit + std::string(X2CAR_BINARY) + " " + arguments + " 2>&1";
   CliRun run;
   FILE* pipe = popen(command.c_str(), "r");
   if (pipe == nullptr) return run;
@@ -275,6 +279,67 @@ TEST(Simulate, ConfigErrorsExitWithTwoNamingTheKey) {
   EXPECT_EQ(type.exit_code, 2);
   EXPECT_THAT(type.output, HasSubstr("ins.rate_hz"));
   EXPECT_EQ(run_x2car("simulate --duration 1").exit_code, 2);  // no --out
+}
+
+// Values that ran past 60 s or into bad_alloc on a reviewer's 5 s drive are rejected at once,
+// naming the file and the field.
+TEST(Simulate, ConfigValuesThatCannotFinishExitWithTwoAtOnce) {
+  const std::string out =
+      " --duration 5 --sensors ins,lidar,radar --out " +
+      (std::filesystem::path(::testing::TempDir()) / "cli_simulate_config_bounds").string();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"route:\n  vertical:\n    waves: 100000000\n", "waves"},
+      {"world:\n  roadside:\n    pole_spacing_m: 1e-6\n", "pole_spacing_m"},
+      {"world:\n  road:\n    max_station_step_m: 1e-7\n", "max_station_step_m"},
+      {"world:\n  roadside:\n    guard_rail_post_spacing_m: 1e-5\n", "guard_rail_post_spacing_m"},
+      {"world:\n  traffic:\n    oncoming_cars_per_km: 1e7\n", "oncoming_cars_per_km"},
+      {"world_radar:\n  mover_sample_period_s: 1e-9\n", "mover_sample_period_s"},
+  };
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const auto config = write_temp_file("cli_simulate_config_bounds_" + std::to_string(i) + ".yaml",
+                                        cases[i].first);
+    const CliRun run = run_x2car("simulate --config " + config.string() + out, 30);
+    EXPECT_EQ(run.exit_code, 2) << cases[i].first << run.output;
+    EXPECT_THAT(run.output, HasSubstr(config.string()));
+    EXPECT_THAT(run.output, HasSubstr(cases[i].second));
+  }
+}
+
+// A TUM file of two short lines: the format detection read the file's text after it had been
+// freed (a temporary in a range-for), so a short file's first line came back as garbage and
+// `--trajectory-format auto` rejected a valid file.
+TEST(Simulate, ShortTumTrajectoryIsDetectedAndDriven) {
+  const auto trajectory =
+      write_temp_file("cli_simulate_short_tum.txt", "0 0 0 0 0 0 0 1\n3 15 0 0 0 0 0 1\n");
+  const auto folder = std::filesystem::path(::testing::TempDir()) / "cli_simulate_short_tum";
+  std::filesystem::remove_all(folder);
+  const CliRun run = run_x2car("simulate --scenario straight --trajectory " + trajectory.string() +
+                               " --out " + folder.string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(std::filesystem::exists(folder / "trajectory.csv"));
+}
+
+// A trajectory that cannot be driven is an input error naming the file, not a bare message.
+TEST(Simulate, UndrivableTrajectoryExitsWithTwoNamingTheFile) {
+  const std::string out =
+      " --out " + (std::filesystem::path(::testing::TempDir()) / "cli_simulate_bad_tum").string();
+  const auto brief = write_temp_file("cli_simulate_brief_tum.txt",
+                                     "0 0 0 0 0 0 0 1\n0.5 5 0 0 0 0 0 1\n");  // 0.5 s
+  const CliRun too_short = run_x2car("simulate --trajectory " + brief.string() + out, 60);
+  EXPECT_EQ(too_short.exit_code, 2) << too_short.output;
+  EXPECT_THAT(too_short.output, HasSubstr(brief.string()));
+  EXPECT_THAT(too_short.output, HasSubstr("shorter than min_duration_s"));
+  const auto tiny = write_temp_file("cli_simulate_tiny_tum.txt",
+                                    "0 0 0 0 0 0 0 1\n2 0.5 0 0 0 0 0 1\n");  // 0.5 m
+  const CliRun too_small = run_x2car("simulate --trajectory " + tiny.string() + out, 60);
+  EXPECT_EQ(too_small.exit_code, 2) << too_small.output;
+  EXPECT_THAT(too_small.output, HasSubstr(tiny.string()));
+  EXPECT_THAT(too_small.output, HasSubstr("at least 1 m long"));
+  const auto jump = write_temp_file("cli_simulate_jump_tum.txt",
+                                    "0 0 0 0 0 0 0 1\n2 1e6 0 0 0 0 0 1\n4 2e6 0 0 0 0 0 1\n");
+  const CliRun jumped = run_x2car("simulate --trajectory " + jump.string() + out, 60);
+  EXPECT_EQ(jumped.exit_code, 2) << jumped.output;
+  EXPECT_THAT(jumped.output, HasSubstr(jump.string()));
 }
 
 // The number after `key: ` in the text from `from` on; NAN when absent.

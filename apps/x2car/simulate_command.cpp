@@ -41,7 +41,9 @@ struct SimulateArguments {
 
 // KITTI (12 numbers a line) or TUM (8), from the first line that is not blank or a comment.
 std::string trajectory_format_of(const std::string& path) {
-  for (const io::TextLine& line : io::split_lines(io::read_text_file(path))) {
+  // Named: the lines view this text, and a temporary in the range-for would die before the body.
+  const std::string text = io::read_text_file(path);
+  for (const io::TextLine& line : io::split_lines(text)) {
     const std::size_t fields = io::split_fields(line.text).size();
     if (fields == 12) return "kitti";
     if (fields == 8) return "tum";
@@ -87,6 +89,7 @@ sim::SimulationOptions simulation_options(const SimulateArguments& arguments) {
   }
   if (!arguments.trajectory_path.empty()) {
     options.recorded_path = read_recorded_path(arguments);
+    options.recorded_path_file = arguments.trajectory_path;  // errors in the drive name it
     // The recording's length unless --duration cuts it.
     if (!arguments.duration_given) options.duration_s = std::numeric_limits<double>::max();
   }

@@ -12,6 +12,7 @@
 #include "x2car/core/error.hpp"
 #include "x2car/core/rotation.hpp"
 #include "x2car/io/text_lines.hpp"
+#include "x2car/io/yaml_util.hpp"
 
 namespace x2car::cli {
 namespace {
@@ -153,7 +154,7 @@ void add_ins_and_sensors(KeyTable& t, sim::SimulationOptions& o) {
   t.number("reflector_height_m", o.world_radar.reflector_height_m,
            "targets' reflection point above the ground [m]");
   t.number("mover_sample_period_s", o.world_radar.mover_sample_period_s,
-           "of the movers' paths [s]");
+           "of the movers' paths, >= 0.001 [s]");
 
   io::CameraIntrinsics& c = o.camera.intrinsics;
   t.section("camera");
@@ -170,7 +171,7 @@ void add_ins_and_sensors(KeyTable& t, sim::SimulationOptions& o) {
 
 void add_motion(KeyTable& t, sim::VehicleMotionOptions& m) {
   t.section("motion");
-  t.number("rate_hz", m.rate_hz, "true states per second [Hz]");
+  t.number("rate_hz", m.rate_hz, "true states per second, [1, 1000] [Hz]");
   t.number("max_acceleration", m.max_acceleration, "[m/s^2]");
   t.number("max_deceleration", m.max_deceleration, "braking [m/s^2]");
   t.number("min_stop_s", m.min_stop_s, "standing at a stop, drawn in [min, max] [s]");
@@ -188,7 +189,7 @@ void add_motion(KeyTable& t, sim::VehicleMotionOptions& m) {
   t.angle("sideslip_gain", m.sideslip_gain, "body yaw into turns [deg per m/s^2]");
   t.number("suspension_frequency_hz", m.suspension_frequency_hz, "body response [Hz]");
   t.number("suspension_damping", m.suspension_damping, "damping ratio");
-  t.number("profile_step_m", m.profile_step_m, "speed profile spacing [m]");
+  t.number("profile_step_m", m.profile_step_m, "speed profile spacing, [0.01, 10] [m]");
   add_style(t, "motion.straight_style", m.straight_style);
   add_style(t, "motion.urban_style", m.urban_style);
   add_style(t, "motion.highway_style", m.highway_style);
@@ -196,7 +197,7 @@ void add_motion(KeyTable& t, sim::VehicleMotionOptions& m) {
 
 void add_route(KeyTable& t, sim::RouteOptions& r) {
   t.section("route");
-  t.number("table_step_m", r.table_step_m, "position table spacing [m]");
+  t.number("table_step_m", r.table_step_m, "position table spacing, [0.01, 10] [m]");
   sim::UrbanPlanOptions& u = r.plan.urban;
   t.section("route.urban");
   t.number("min_block_m", u.min_block_m, "between intersections [m]");
@@ -224,7 +225,7 @@ void add_route(KeyTable& t, sim::RouteOptions& r) {
   t.number("min_lane_change_m", h.min_lane_change_m, "length of a lane change [m]");
   t.number("max_lane_change_m", h.max_lane_change_m, "[m]");
   t.number("lane_width_m", h.lane_width_m, "also the world's lane width [m]");
-  t.integer("lanes", h.lanes, "per direction, >= 2 (also the world's)");
+  t.integer("lanes", h.lanes, "per direction, 2 to 8 (also the world's)");
   t.number("full_bank_radius_m", h.full_bank_radius_m, "curves fully banked at this radius [m]");
   sim::MixedPlanOptions& x = r.plan.mixed;
   t.section("route.mixed");
@@ -241,7 +242,7 @@ void add_route(KeyTable& t, sim::RouteOptions& r) {
   t.number("max_grade_wavelength_m", v.max_grade_wavelength_m, "[m]");
   t.number("min_crossfall_wavelength_m", v.min_crossfall_wavelength_m, "camber changes [m]");
   t.number("max_crossfall_wavelength_m", v.max_crossfall_wavelength_m, "[m]");
-  t.integer("waves", v.waves, "sine waves summed for grade and for camber");
+  t.integer("waves", v.waves, "sine waves summed for grade and for camber, 1 to 100");
 }
 
 void add_world(KeyTable& t, sim::WorldOptions& w) {
@@ -254,12 +255,12 @@ void add_world(KeyTable& t, sim::WorldOptions& w) {
   t.number("highway_shoulder_m", r.highway_shoulder_m, "[m]");
   t.number("guard_rail_offset_m", r.guard_rail_offset_m, "beyond the asphalt [m]");
   t.number("extension_m", r.extension_m, "road beyond the route's ends [m]");
-  t.number("max_station_step_m", r.max_station_step_m, "road sampling [m]");
+  t.number("max_station_step_m", r.max_station_step_m, "road sampling, [0.05, 10] [m]");
   t.angle("max_station_turn", r.max_station_turn, "road sampling [deg]");
   t.number("section_transition_m", r.section_transition_m, "mixed: lane change between roads [m]");
   sim::RoadsideOptions& s = w.roadside;
   t.section("world.roadside");
-  t.number("building_min_length_m", s.building_min_length_m, "[m]");
+  t.number("building_min_length_m", s.building_min_length_m, ">= 1 [m]");
   t.number("building_max_length_m", s.building_max_length_m, "[m]");
   t.number("building_min_depth_m", s.building_min_depth_m, "[m]");
   t.number("building_max_depth_m", s.building_max_depth_m, "[m]");
@@ -269,31 +270,32 @@ void add_world(KeyTable& t, sim::WorldOptions& w) {
   t.number("building_max_gap_m", s.building_max_gap_m, "between neighbours [m]");
   t.number("building_frontage", s.building_frontage, "share built on, [0, 1]");
   t.number("intersection_gap_m", s.intersection_gap_m, "no buildings near turns and stops [m]");
-  t.number("pole_spacing_m", s.pole_spacing_m, "street lights; 0 none [m]");
-  t.number("sign_spacing_m", s.sign_spacing_m, "traffic signs; 0 none [m]");
-  t.number("tree_spacing_m", s.tree_spacing_m, "0 none [m]");
+  t.number("pole_spacing_m", s.pole_spacing_m, "street lights; 0 none, else >= 0.5 [m]");
+  t.number("sign_spacing_m", s.sign_spacing_m, "traffic signs; 0 none, else >= 0.5 [m]");
+  t.number("tree_spacing_m", s.tree_spacing_m, "0 none, else >= 0.5 [m]");
   t.number("parked_car_spacing_m", s.parked_car_spacing_m, "parking slots; 0 none [m]");
   t.number("parked_car_share", s.parked_car_share, "share of slots taken");
-  t.number("guard_rail_post_spacing_m", s.guard_rail_post_spacing_m, "[m]");
-  t.number("terrain_half_width_m", s.terrain_half_width_m, "[m]");
+  t.number("guard_rail_post_spacing_m", s.guard_rail_post_spacing_m, "0 none, else >= 0.5 [m]");
+  t.number("terrain_half_width_m", s.terrain_half_width_m, "[0, 500] [m]");
   t.number("terrain_cell_m", s.terrain_cell_m, "[m]");
   sim::TrafficOptions& f = w.traffic;
   t.section("world.traffic");
-  t.number("oncoming_cars_per_km", f.oncoming_cars_per_km, "urban, opposite lane");
-  t.number("cyclists_per_km", f.cyclists_per_km, "urban, bike lane");
-  t.number("highway_cars_per_km_lane", f.highway_cars_per_km_lane, "per highway lane");
+  t.number("oncoming_cars_per_km", f.oncoming_cars_per_km, "urban, opposite lane, [0, 500]");
+  t.number("cyclists_per_km", f.cyclists_per_km, "urban, bike lane, [0, 500]");
+  t.number("highway_cars_per_km_lane", f.highway_cars_per_km_lane, "per highway lane, [0, 500]");
   t.number("urban_min_speed_mps", f.urban_min_speed_mps, "[m/s]");
-  t.number("urban_max_speed_mps", f.urban_max_speed_mps, "[m/s]");
+  t.number("urban_max_speed_mps", f.urban_max_speed_mps, "<= 100 [m/s]");
   t.number("highway_min_speed_mps", f.highway_min_speed_mps, "[m/s]");
-  t.number("highway_max_speed_mps", f.highway_max_speed_mps, "[m/s]");
+  t.number("highway_max_speed_mps", f.highway_max_speed_mps, "<= 100 [m/s]");
   t.number("cyclist_min_speed_mps", f.cyclist_min_speed_mps, "[m/s]");
-  t.number("cyclist_max_speed_mps", f.cyclist_max_speed_mps, "[m/s]");
+  t.number("cyclist_max_speed_mps", f.cyclist_max_speed_mps, "<= 100 [m/s]");
   t.number("ego_clearance_m", f.ego_clearance_m, "movers keep this gap to the car in its lane [m]");
 }
 
 void add_recorded(KeyTable& t, sim::RecordedDriveOptions& r) {
   t.section("recorded");
-  t.number("knot_spacing_m", r.knot_spacing_m, "--trajectory: route curvature knots [m]");
+  t.number("knot_spacing_m", r.knot_spacing_m,
+           "--trajectory: route curvature knots, [0.1, 100] [m]");
   t.number("preview_m", r.preview_m, "how fast the fit steers back onto the path [m]");
   t.number("min_step_m", r.min_step_m, "closer poses count as standing [m]");
   t.number("max_curvature", r.max_curvature, "[1/m]");
@@ -311,11 +313,6 @@ std::vector<Key> config_keys(sim::SimulationOptions& options) {
 }
 
 // ---- reading -----------------------------------------------------------------------------------
-
-std::size_t yaml_line(const YAML::Node& node) {
-  const YAML::Mark mark = node.Mark();
-  return mark.line < 0 ? 0 : static_cast<std::size_t>(mark.line) + 1;
-}
 
 std::string parent_of(const std::string& path) {
   const std::size_t dot = path.rfind('.');
@@ -346,13 +343,14 @@ class ConfigReader {
       } else if (sections_.contains(path)) {
         if (entry.second.IsNull()) continue;  // an empty section changes nothing
         if (!entry.second.IsMap()) {
-          throw InputError(source_, yaml_line(entry.second), path, "expected a mapping of keys");
+          throw InputError(source_, io::yaml_line(entry.second), path,
+                           "expected a mapping of keys");
         }
         apply(entry.second, path);
       } else {
         const std::set<std::string>& known = children_.at(prefix);
         throw InputError(
-            source_, yaml_line(entry.first), path,
+            source_, io::yaml_line(entry.first), path,
             fmt::format("unknown key; {} are: {}",
                         prefix.empty() ? "the top-level keys" : "the keys of " + prefix,
                         io::join(std::vector<std::string>(known.begin(), known.end()))));
@@ -363,13 +361,14 @@ class ConfigReader {
  private:
   std::string scalar(const Key& key, const YAML::Node& node, const char* expected) const {
     if (!node.IsScalar() || node.IsNull()) {
-      throw InputError(source_, yaml_line(node), key.path, fmt::format("expected {}", expected));
+      throw InputError(source_, io::yaml_line(node), key.path,
+                       fmt::format("expected {}", expected));
     }
     return node.Scalar();
   }
 
   void set(const Key& key, const YAML::Node& node) const {
-    const io::FieldLocation where{source_, yaml_line(node), key.path};
+    const io::FieldLocation where{source_, io::yaml_line(node), key.path};
     if (const auto* number = std::get_if<Number>(&key.field)) {
       const double value = io::parse_double(scalar(key, node, "a number"), where);
       *number->value = number->degrees ? rad_from_deg(value) : value;
@@ -400,10 +399,10 @@ class ConfigReader {
       for (std::size_t i = 0; i < node.size(); ++i) {
         const std::string field = fmt::format("{}[{}]", key.path, i);
         if (!node[i].IsScalar()) {
-          throw InputError(source_, yaml_line(node[i]), field, "expected a number");
+          throw InputError(source_, io::yaml_line(node[i]), field, "expected a number");
         }
         numbers->value->push_back(
-            io::parse_double(node[i].Scalar(), {source_, yaml_line(node[i]), field}));
+            io::parse_double(node[i].Scalar(), {source_, io::yaml_line(node[i]), field}));
       }
     }
   }
@@ -458,14 +457,7 @@ void apply_simulation_config(const std::filesystem::path& path, sim::SimulationO
 
 void apply_simulation_config_text(std::string_view text, const std::string& source_name,
                                   sim::SimulationOptions& options) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(std::string(text));
-  } catch (const YAML::Exception& error) {
-    const std::size_t line =
-        error.mark.line < 0 ? 0 : static_cast<std::size_t>(error.mark.line) + 1;
-    throw InputError(source_name, line, {}, "invalid YAML: " + error.msg);
-  }
+  const YAML::Node root = io::load_yaml(text, source_name);
   if (root.IsNull()) return;  // an empty file changes nothing
   if (!root.IsMap()) throw InputError(source_name, "expected a YAML mapping at the top level");
   ConfigReader(options, source_name).apply(root, "");

@@ -5,6 +5,8 @@
 
 #include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "x2car/core/error.hpp"
 #include "x2car/core/rotation.hpp"
@@ -96,6 +98,34 @@ TEST(SimulationConfig, UnknownKeysAndWrongTypesNameTheFileLineAndKey) {
   } catch (const InputError& error) {
     EXPECT_THAT(error.what(), HasSubstr("the keys of lidar are: azimuth_step_deg, beams"));
   }
+}
+
+// Values that made a 5 s drive run past 60 s or end in bad_alloc: the options' Check() rejects
+// them, so the file is named before anything is simulated.
+TEST(SimulationConfig, ValuesThatCannotFinishNameTheFileAndField) {
+  for (const auto& [text, field] : std::vector<std::pair<std::string, std::string>>{
+           {"route:\n  vertical:\n    waves: 100000000\n", "waves"},
+           {"world:\n  roadside:\n    pole_spacing_m: 1e-6\n", "pole_spacing_m"},
+           {"world:\n  road:\n    max_station_step_m: 1e-7\n", "max_station_step_m"},
+           {"world:\n  roadside:\n    guard_rail_post_spacing_m: 1e-5\n",
+            "guard_rail_post_spacing_m"},
+           {"world:\n  traffic:\n    oncoming_cars_per_km: 1e7\n", "oncoming_cars_per_km"},
+           {"world_radar:\n  mover_sample_period_s: 1e-9\n", "mover_sample_period_s"},
+           {"motion:\n  rate_hz: 1e9\n", "rate_hz"},
+           {"recorded:\n  knot_spacing_m: 1e-9\n", "knot_spacing_m"},
+       }) {
+    try {
+      configured(text);
+      ADD_FAILURE() << "no InputError for " << text;
+    } catch (const InputError& error) {
+      EXPECT_EQ(error.file(), kFile);
+      EXPECT_THAT(error.what(), HasSubstr(field));
+    }
+  }
+  // 0 still turns a kind of object off.
+  EXPECT_EQ(
+      configured("world:\n  roadside:\n    pole_spacing_m: 0\n").world.roadside.pole_spacing_m,
+      0.0);
 }
 
 TEST(SimulationConfig, DocsListEveryKey) {

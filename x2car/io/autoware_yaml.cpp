@@ -12,23 +12,12 @@
 #include "x2car/core/error.hpp"
 #include "x2car/core/rotation.hpp"
 #include "x2car/io/text_lines.hpp"
+#include "x2car/io/yaml_util.hpp"
 
 namespace x2car::io {
 namespace {
 
 constexpr std::array<const char*, 6> kAutowareKeys{"x", "y", "z", "roll", "pitch", "yaw"};
-
-std::size_t yaml_line(const YAML::Mark& mark) {
-  return mark.line < 0 ? 0 : static_cast<std::size_t>(mark.line) + 1;
-}
-
-YAML::Node load_yaml(std::string_view text, const std::string& source) {
-  try {
-    return YAML::Load(std::string(text));
-  } catch (const YAML::Exception& error) {
-    throw InputError(source, yaml_line(error.mark), {}, "invalid YAML: " + error.msg);
-  }
-}
 
 std::vector<std::string> yaml_keys(const YAML::Node& map) {
   std::vector<std::string> keys;

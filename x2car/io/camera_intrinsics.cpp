@@ -10,30 +10,13 @@
 
 #include "x2car/core/error.hpp"
 #include "x2car/io/text_lines.hpp"
+#include "x2car/io/yaml_util.hpp"
 
 namespace x2car::io {
 namespace {
 
 constexpr std::array<const char*, 8> kKeys{
     "width", "height", "fx", "fy", "cx", "cy", "distortion_model", "distortion_coefficients"};
-
-std::size_t yaml_line(const YAML::Node& node) {
-  const YAML::Mark mark = node.Mark();
-  return mark.line < 0 ? 0 : static_cast<std::size_t>(mark.line) + 1;
-}
-
-YAML::Node load_root(std::string_view text, const std::string& source) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(std::string(text));
-  } catch (const YAML::Exception& error) {
-    const std::size_t line =
-        error.mark.line < 0 ? 0 : static_cast<std::size_t>(error.mark.line) + 1;
-    throw InputError(source, line, {}, "invalid YAML: " + error.msg);
-  }
-  if (!root.IsMap()) throw InputError(source, "expected a YAML mapping at the top level");
-  return root;
-}
 
 // Every key present, no other: a misspelt key must not silently leave a default in place.
 void check_keys(const YAML::Node& root, const std::string& source) {
@@ -169,7 +152,7 @@ CameraIntrinsics read_camera_intrinsics(const std::filesystem::path& path) {
 }
 
 CameraIntrinsics parse_camera_intrinsics(std::string_view text, const std::string& source_name) {
-  const YAML::Node root = load_root(text, source_name);
+  const YAML::Node root = load_yaml_mapping(text, source_name);
   check_keys(root, source_name);
   CameraIntrinsics intrinsics;
   intrinsics.width = image_size(root, "width", source_name);

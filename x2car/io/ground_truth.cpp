@@ -12,6 +12,7 @@
 #include "x2car/core/error.hpp"
 #include "x2car/io/ins_csv.hpp"
 #include "x2car/io/text_lines.hpp"
+#include "x2car/io/yaml_util.hpp"
 
 namespace x2car::io {
 namespace {
@@ -23,24 +24,6 @@ constexpr std::array<const char*, 14> kTrajectoryColumns{
     "vx",   "vy", "vz", "speed", "yaw_rate", "curvature", "straight"};
 
 // ---- YAML reading ------------------------------------------------------------------------------
-
-std::size_t yaml_line(const YAML::Node& node) {
-  const YAML::Mark mark = node.Mark();
-  return mark.line < 0 ? 0 : static_cast<std::size_t>(mark.line) + 1;
-}
-
-YAML::Node load_root(std::string_view text, const std::string& source) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(std::string(text));
-  } catch (const YAML::Exception& error) {
-    const std::size_t line =
-        error.mark.line < 0 ? 0 : static_cast<std::size_t>(error.mark.line) + 1;
-    throw InputError(source, line, {}, "invalid YAML: " + error.msg);
-  }
-  if (!root.IsMap()) throw InputError(source, "expected a YAML mapping at the top level");
-  return root;
-}
 
 // The scalar under `key`, or an InputError naming the key.
 std::string required_scalar(const YAML::Node& map, const std::string& key,
@@ -189,7 +172,7 @@ GroundTruth read_ground_truth(const std::filesystem::path& path) {
 }
 
 GroundTruth parse_ground_truth(std::string_view text, const std::string& source_name) {
-  const YAML::Node root = load_root(text, source_name);
+  const YAML::Node root = load_yaml_mapping(text, source_name);
   GroundTruth truth;
   truth.scenario = required_scalar(root, "scenario", source_name, "scenario");
   truth.seed = required_seed(root, source_name);
@@ -204,7 +187,8 @@ SensorMountings read_mountings(const std::filesystem::path& path) {
 }
 
 SensorMountings parse_mountings(std::string_view text, const std::string& source_name) {
-  SensorMountings mountings = parse_mounting_entries(load_root(text, source_name), source_name);
+  SensorMountings mountings =
+      parse_mounting_entries(load_yaml_mapping(text, source_name), source_name);
   if (mountings.empty()) {
     throw InputError(source_name, "no vehicle_from_<sensor> mapping (x y z roll pitch yaw)");
   }

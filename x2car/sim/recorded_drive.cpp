@@ -13,6 +13,7 @@ namespace {
 constexpr double kDamping = 0.7;   // of the path-following controller (header)
 constexpr int kSubsteps = 8;       // Simpson steps per knot interval when integrating the fit
 constexpr double kMinPathM = 1.0;  // shortest path that makes a route [m]
+constexpr double kMaxPathM = 1e6;  // longest, that of a generated route's plan [m]
 
 void require(bool condition, const std::string& what) {
   if (!condition) throw std::invalid_argument("recorded drive: " + what);
@@ -98,7 +99,8 @@ double steer(const Track& track, const PlanState& state, double d,
 }  // namespace
 
 void RecordedDriveOptions::Check() const {
-  require(knot_spacing_m > 0.0 && std::isfinite(knot_spacing_m), "knot_spacing_m must be > 0");
+  // One knot (and ~120 track probes) every knot_spacing_m of the path: below 0.1 m it only stalls.
+  require(knot_spacing_m >= 0.1 && knot_spacing_m <= 100.0, "knot_spacing_m must be in [0.1, 100]");
   require(preview_m > 0.0 && std::isfinite(preview_m), "preview_m must be > 0");
   require(min_step_m >= 0.0 && std::isfinite(min_step_m), "min_step_m must be >= 0");
   require(max_curvature > 0.0 && std::isfinite(max_curvature), "max_curvature must be > 0");
@@ -133,6 +135,9 @@ RecordedDrive fit_recorded_drive(std::span<const StampedPose> poses,
   }
   require(track.points.size() >= 2 && track.length() >= kMinPathM,
           "the path must be at least 1 m long");
+  // As long as a generated route may be: a longer path (a wild jump between poses) would take
+  // minutes of fitting only to fail on the route's table.
+  require(track.length() <= kMaxPathM, "the path must be at most 1000 km long");
 
   // Knots every knot_spacing_m, the last one at the track's end.
   RoadPlan plan;

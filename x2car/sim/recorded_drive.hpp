@@ -21,7 +21,7 @@
 namespace x2car::sim {
 
 struct RecordedDriveOptions {
-  double knot_spacing_m = 1.0;  // between the fitted route's curvature knots [m], > 0
+  double knot_spacing_m = 1.0;  // between the fitted route's curvature knots [m], [0.1, 100]
   double preview_m = 8.0;       // how fast the fit steers back onto the path [m], > 0
   double min_step_m = 0.02;     // poses closer than this to the last count as standing [m]
   double max_curvature = 0.2;   // the fit's curvature is clipped to this (R = 5 m) [1/m]
@@ -39,7 +39,7 @@ struct RecordedDrive {
 
 // `poses` in a world whose z is up (ENU-like), times strictly increasing; only their positions
 // are used (the car faces along the path). Throws std::invalid_argument for fewer than 2 poses, a
-// recording shorter than min_duration_s or a path shorter than 1 m.
+// recording shorter than min_duration_s or a path shorter than 1 m or longer than 1000 km.
 RecordedDrive fit_recorded_drive(std::span<const StampedPose> poses,
                                  const RecordedDriveOptions& options = {});
 

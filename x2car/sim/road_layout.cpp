@@ -171,7 +171,9 @@ RoadStation make_station(const Route& route, double s, const RouteOffsets& offse
 
 void RoadOptions::Check() const {
   check_positive("lane_width_m", lane_width_m);
-  if (highway_lanes < 1) reject("road options: highway_lanes must be >= 1");
+  if (highway_lanes < 1 || highway_lanes > kMaxHighwayLanes) {
+    reject("road options: highway_lanes must be in [1, {}]", kMaxHighwayLanes);
+  }
   check_positive("urban_shoulder_m", urban_shoulder_m);
   check_positive("sidewalk_width_m", sidewalk_width_m);
   check_positive("curb_height_m", curb_height_m);
@@ -181,7 +183,11 @@ void RoadOptions::Check() const {
   if (!(extension_m >= 0.0 && extension_m <= 1000.0)) {
     reject("road options: extension_m must be in [0, 1000]");
   }
-  check_positive("max_station_step_m", max_station_step_m);
+  // Stations are at least 0.05 m apart in curves (station_step); a smaller maximum would only
+  // multiply the road's stations (and its meshes) for nothing.
+  if (!(max_station_step_m >= 0.05 && max_station_step_m <= 10.0)) {
+    reject("road options: max_station_step_m must be in [0.05, 10]");
+  }
   check_positive("max_station_turn", max_station_turn);
   check_positive("section_transition_m", section_transition_m);
 }

@@ -290,14 +290,17 @@ void VerticalProfileOptions::Check() const {
         min_crossfall_wavelength_m <= max_crossfall_wavelength_m)) {
     reject("vertical profile: need 0 < min_crossfall_wavelength_m <= max_crossfall_wavelength_m");
   }
-  if (waves < 1) reject("vertical profile: waves must be >= 1, got {}", waves);
+  // Every route point sums all waves: a few make a natural profile, millions only stall.
+  if (waves < 1 || waves > 100)
+    reject("vertical profile: waves must be in [1, 100], got {}", waves);
 }
 
 void RouteOptions::Check() const {
   plan.Check();
   vertical.Check();
-  if (!(table_step_m > 0.0 && table_step_m <= 10.0))
-    reject("route: table_step_m must be in (0, 10]");
+  // Below a centimetre the table only costs memory (positions are exact at 2 m steps).
+  if (!(table_step_m >= 0.01 && table_step_m <= 10.0))
+    reject("route: table_step_m must be in [0.01, 10]");
 }
 
 VerticalProfile generate_vertical_profile(Random& rng, const VerticalProfileOptions& options) {

@@ -261,6 +261,18 @@ TEST(Route, RejectsBadInput) {
   options = {};
   options.plan.urban.min_turn_radius_m = 30.0;  // above the maximum
   EXPECT_THROW(generate_route(Scenario::kUrban, 500.0, 1, options), std::invalid_argument);
+  // 1e8 waves stalled a 5 s drive for minutes (every point sums them all).
+  options = {};
+  options.vertical.waves = 100000000;
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+  options.vertical.waves = 100;
+  EXPECT_NO_THROW(options.Check());
+  options = {};
+  options.table_step_m = 1e-6;
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+  options = {};
+  options.plan.highway.lanes = 1000000;
+  EXPECT_THROW(options.Check(), std::invalid_argument);
   EXPECT_THROW(flat_route({{0.0, 0.0}, {10.0, 0.0}, {5.0, 0.0}}), std::invalid_argument);
   EXPECT_THROW(flat_route({{1.0, 0.0}, {10.0, 0.0}}), std::invalid_argument);
   RoadPlan plan;

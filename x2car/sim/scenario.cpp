@@ -288,7 +288,9 @@ void HighwayPlanOptions::Check() const {
   check_probability("highway plan: lane_change_probability", lane_change_probability);
   if (!(lane_width_m > 0.0)) reject("highway plan: lane_width_m must be > 0");
   if (!(full_bank_radius_m > 0.0)) reject("highway plan: full_bank_radius_m must be > 0");
-  if (lanes < 2) reject("highway plan: lanes must be >= 2, got {}", lanes);
+  if (lanes < 2 || lanes > kMaxHighwayLanes) {
+    reject("highway plan: lanes must be in [2, {}], got {}", kMaxHighwayLanes, lanes);
+  }
 }
 
 void MixedPlanOptions::Check() const {

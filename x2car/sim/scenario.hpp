@@ -103,6 +103,10 @@ struct UrbanPlanOptions {
   void Check() const;
 };
 
+// The most lanes a highway carriageway has: the world lays out markings and traffic per lane, so
+// the count is bounded (real motorways have at most ~8 a side).
+constexpr int kMaxHighwayLanes = 8;
+
 // Highway: long straights with lane changes, long curves with clothoid transitions.
 struct HighwayPlanOptions {
   double min_straight_m = 300.0;                // [m]
@@ -117,7 +121,7 @@ struct HighwayPlanOptions {
   double min_lane_change_m = 150.0;  // length of a lane change [m]; 150 m at 3.5 m is R >= 800 m
   double max_lane_change_m = 250.0;  // [m]
   double lane_width_m = 3.5;         // [m]
-  int lanes = 3;                     // lanes in the driving direction, >= 2
+  int lanes = 3;                     // lanes in the driving direction, [2, kMaxHighwayLanes]
   // Curves are banked towards their inside, fully at this radius or less and in proportion to
   // the curvature above it (superelevation grows with curvature).
   double full_bank_radius_m = 400.0;  // [m]

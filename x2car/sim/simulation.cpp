@@ -94,10 +94,17 @@ Route drive(const SimulationOptions& options, VehicleStates& states) {
     if (pose.time - options.recorded_path.front().time > options.duration_s) break;
     poses.push_back(pose);
   }
-  RecordedDrive recorded = fit_recorded_drive(poses, options.recorded);
-  states = simulate_recorded_motion(recorded.route, recorded.times, recorded.arc_lengths,
-                                    options.motion);
-  return std::move(recorded.route);
+  // The options were checked before (SimulationOptions::Check), so what fails here is the
+  // recording itself: name its file when there is one.
+  try {
+    RecordedDrive recorded = fit_recorded_drive(poses, options.recorded);
+    states = simulate_recorded_motion(recorded.route, recorded.times, recorded.arc_lengths,
+                                      options.motion);
+    return std::move(recorded.route);
+  } catch (const std::invalid_argument& error) {
+    if (options.recorded_path_file.empty()) throw;
+    throw InputError(options.recorded_path_file, error.what());
+  }
 }
 
 }  // namespace

@@ -52,6 +52,10 @@ struct SimulationOptions {
   // (KITTI's through kitti_poses_to_z_up), times increasing. The drive lasts the recording, cut
   // to duration_s; the world is generated around it with the scenario's road (not kMixed).
   std::vector<StampedPose> recorded_path;
+  // The file recorded_path was read from, or empty: when set, a recording that cannot be driven
+  // (too short, too long, a jump) is an InputError naming this file rather than an
+  // std::invalid_argument, since the fault is in the user's file, not in the options.
+  std::string recorded_path_file;
   RecordedDriveOptions recorded;
 
   void Check() const;  // throws std::invalid_argument naming the offending field

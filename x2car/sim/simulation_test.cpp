@@ -9,7 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "x2car/core/error.hpp"
 #include "x2car/core/robust_stats.hpp"
+#include "x2car/core/test_matchers.hpp"
 #include "x2car/io/camera_intrinsics.hpp"
 #include "x2car/io/novatel_csv.hpp"
 #include "x2car/io/pose_file.hpp"
@@ -386,6 +388,29 @@ TEST(Simulation, RecordedKittiPathIsDrivenAlongItsTrack) {
   EXPECT_NEAR(std::atan2(rotation(1, 0), rotation(0, 0)), kPi / 2.0, rad_from_deg(1.0));  // north
   // The radar sees a world built around it.
   EXPECT_TRUE(std::filesystem::exists(out / kRadarTruthFile));
+}
+
+// A recording that cannot be driven is the user's file's fault: with recorded_path_file set (as
+// `x2car simulate --trajectory` sets it) the error is an InputError naming that file.
+TEST(Simulation, UndrivableRecordingNamesItsFile) {
+  SimulationOptions options = short_urban_drive(1);
+  options.duration_s = 1000.0;
+  const auto pose_at = [](double time, double east) {
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.translation() = Eigen::Vector3d(east, 0.0, 0.0);
+    return StampedPose{time, pose};
+  };
+  options.recorded_path = {pose_at(0.0, 0.0), pose_at(0.5, 5.0)};  // shorter than 1 s
+  EXPECT_THROW(simulate(options), std::invalid_argument);          // no file to name
+  options.recorded_path_file = "drive_tum.txt";
+  x2car::testing::expect_input_error([&] { simulate(options); }, "drive_tum.txt", 0);
+  options.recorded_path = {pose_at(0.0, 0.0), pose_at(2.0, 0.5)};  // 0.5 m long
+  const InputError error =
+      x2car::testing::expect_input_error([&] { simulate(options); }, "drive_tum.txt", 0);
+  EXPECT_THAT(error.what(), ::testing::HasSubstr("at least 1 m long"));
+  // A jump of 1e7 m fails at once instead of fitting ten million knots first.
+  options.recorded_path = {pose_at(0.0, 0.0), pose_at(2.0, 1e7)};
+  x2car::testing::expect_input_error([&] { simulate(options); }, "drive_tum.txt", 0);
 }
 
 TEST(Simulation, RejectsSensorsItDoesNotModelYet) {

@@ -414,7 +414,10 @@ void check_non_negative(const char* name, double value) {
 }  // namespace
 
 void VehicleMotionOptions::Check() const {
-  check_positive("rate_hz", rate_hz);
+  // The body is integrated in 1 / (rate_hz * substeps) steps and every state is kept: outside
+  // [1, 1000] Hz the substep count overflows or the states exhaust memory.
+  if (!(rate_hz >= 1.0 && rate_hz <= 1000.0))
+    reject("vehicle motion: rate_hz must be in [1, 1000]");
   straight_style.Check();
   urban_style.Check();
   highway_style.Check();
@@ -438,7 +441,10 @@ void VehicleMotionOptions::Check() const {
   }
   check_positive("suspension_frequency_hz", suspension_frequency_hz);
   check_positive("suspension_damping", suspension_damping);
-  check_positive("profile_step_m", profile_step_m);
+  // The speed profile has a node every profile_step_m along the whole route.
+  if (!(profile_step_m >= 0.01 && profile_step_m <= 10.0)) {
+    reject("vehicle motion: profile_step_m must be in [0.01, 10]");
+  }
 }
 
 const DrivingStyle& driving_style(const VehicleMotionOptions& options, Scenario road_kind) {
@@ -497,6 +503,11 @@ VehicleStates simulate_recorded_motion(const Route& route, std::span<const doubl
   options.Check();
   if (times.size() < 2 || times.size() != arc_lengths.size() || times.front() != 0.0) {
     reject("vehicle motion: a recorded pace needs >= 2 times from 0, one arc length each");
+  }
+  // As for a generated drive: a recording spanning years (a bad time stamp) must not exhaust
+  // memory with its states.
+  if (!(times.back() * options.rate_hz < kMaxSamples)) {
+    reject("vehicle motion: the recording's {} s give >= {} samples", times.back(), kMaxSamples);
   }
   Timeline timeline(arc_lengths.front());
   for (std::size_t i = 1; i < times.size(); ++i) {

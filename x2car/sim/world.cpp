@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <stdexcept>
@@ -26,6 +27,29 @@ void check_range(const char* name, double min, double max) {
 void check_non_negative(const char* name, double value) {
   if (!(value >= 0.0 && std::isfinite(value))) reject("world options: {} must be >= 0", name);
 }
+
+// Objects placed every `spacing` along the road: a tiny spacing makes millions of them per
+// kilometre (hours of generation or bad_alloc), so a spacing is 0 (none) or at least kMinSpacingM.
+constexpr double kMinSpacingM = 0.5;
+
+void check_spacing(const char* name, double value) {
+  if (!(std::isfinite(value) && (value == 0.0 || value >= kMinSpacingM))) {
+    reject("world options: {} must be 0 (none) or >= {} m", name, kMinSpacingM);
+  }
+}
+
+// Movers per kilometre of lane: busy traffic is ~100; more only exhausts memory.
+constexpr double kMaxMoversPerKm = 500.0;
+
+void check_density(const char* name, double value) {
+  if (!(value >= 0.0 && value <= kMaxMoversPerKm)) {
+    reject("world options: {} must be in [0, {}] per km", name, kMaxMoversPerKm);
+  }
+}
+
+// Movers' speeds: the traffic generator spreads them over what the fastest covers in the drive,
+// so an absurd speed means absurdly many movers (and an int overflow of their count).
+constexpr double kMaxMoverSpeedMps = 100.0;
 
 void check_share(const char* name, double value) {
   if (!(value >= 0.0 && value <= 1.0)) reject("world options: {} must be in [0, 1]", name);
@@ -85,33 +109,42 @@ void RoadsideOptions::Check() const {
   if (!(building_min_length_m > 0.0 && building_min_depth_m > 0.0 && building_min_height_m > 0.0)) {
     reject("world options: building sizes must be > 0");
   }
+  // Buildings follow each other along the road, so their length is their spacing.
+  if (!(building_min_length_m >= 1.0)) reject("world options: building_min_length_m must be >= 1");
   if (!(building_max_setback_m >= 0.5))
     reject("world options: building_max_setback_m must be >= 0.5");
   check_non_negative("building_max_gap_m", building_max_gap_m);
   check_share("building_frontage", building_frontage);
   check_non_negative("intersection_gap_m", intersection_gap_m);
-  check_non_negative("pole_spacing_m", pole_spacing_m);
-  check_non_negative("sign_spacing_m", sign_spacing_m);
-  check_non_negative("tree_spacing_m", tree_spacing_m);
+  check_spacing("pole_spacing_m", pole_spacing_m);
+  check_spacing("sign_spacing_m", sign_spacing_m);
+  check_spacing("tree_spacing_m", tree_spacing_m);
   check_non_negative("parked_car_spacing_m", parked_car_spacing_m);
   if (parked_car_spacing_m > 0.0 && parked_car_spacing_m < 5.5) {
     reject("world options: parked_car_spacing_m must be 0 or >= 5.5 (a car is up to 5 m long)");
   }
   check_share("parked_car_share", parked_car_share);
-  check_non_negative("guard_rail_post_spacing_m", guard_rail_post_spacing_m);
-  check_non_negative("terrain_half_width_m", terrain_half_width_m);
+  check_spacing("guard_rail_post_spacing_m", guard_rail_post_spacing_m);
+  // The terrain is a grid of cells across this width all along the road: bounded for memory.
+  if (!(terrain_half_width_m >= 0.0 && terrain_half_width_m <= 500.0)) {
+    reject("world options: terrain_half_width_m must be in [0, 500]");
+  }
   if (!(terrain_cell_m >= 0.5 && terrain_cell_m <= 20.0)) {
     reject("world options: terrain_cell_m must be in [0.5, 20]");
   }
 }
 
 void TrafficOptions::Check() const {
-  check_non_negative("oncoming_cars_per_km", oncoming_cars_per_km);
-  check_non_negative("cyclists_per_km", cyclists_per_km);
-  check_non_negative("highway_cars_per_km_lane", highway_cars_per_km_lane);
+  check_density("oncoming_cars_per_km", oncoming_cars_per_km);
+  check_density("cyclists_per_km", cyclists_per_km);
+  check_density("highway_cars_per_km_lane", highway_cars_per_km_lane);
   check_range("urban car speed [m/s]", urban_min_speed_mps, urban_max_speed_mps);
   check_range("highway car speed [m/s]", highway_min_speed_mps, highway_max_speed_mps);
   check_range("cyclist speed [m/s]", cyclist_min_speed_mps, cyclist_max_speed_mps);
+  if (!(std::max({urban_max_speed_mps, highway_max_speed_mps, cyclist_max_speed_mps}) <=
+        kMaxMoverSpeedMps)) {
+    reject("world options: mover speeds must be <= {} m/s", kMaxMoverSpeedMps);
+  }
   check_non_negative("ego_clearance_m", ego_clearance_m);
 }
 

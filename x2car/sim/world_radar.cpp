@@ -34,8 +34,10 @@ void WorldRadarOptions::Check() const {
   if (!(reflector_height_m >= 0.0 && std::isfinite(reflector_height_m))) {
     throw std::invalid_argument("world radar options: reflector_height_m must be >= 0");
   }
-  if (!(mover_sample_period_s > 0.0 && std::isfinite(mover_sample_period_s))) {
-    throw std::invalid_argument("world radar options: mover_sample_period_s must be > 0");
+  // Every mover is sampled this often over the whole drive: a period below a millisecond only
+  // exhausts memory (radar scans are 50 ms apart).
+  if (!(mover_sample_period_s >= 1e-3 && std::isfinite(mover_sample_period_s))) {
+    throw std::invalid_argument("world radar options: mover_sample_period_s must be >= 0.001 s");
   }
 }
 

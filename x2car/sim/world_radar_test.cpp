@@ -80,6 +80,11 @@ TEST(WorldRadar, RejectsBadOptions) {
   WorldRadarOptions options;
   options.mover_sample_period_s = 0.0;
   EXPECT_THROW(radar_scene_from_world(world, 0.0, 1.0, options), std::invalid_argument);
+  // A nanosecond period ended in bad_alloc on a 5 s drive; a millisecond is the least.
+  options.mover_sample_period_s = 1e-9;
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+  options.mover_sample_period_s = 1e-3;
+  EXPECT_NO_THROW(options.Check());
   EXPECT_THROW(radar_scene_from_world(world, 1.0, 0.0), std::invalid_argument);
 }
 

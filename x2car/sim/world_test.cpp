@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <map>
 #include <stdexcept>
 
@@ -186,6 +187,45 @@ TEST(WorldOptions, RejectBadValues) {
   options = {};
   options.road.lane_width_m = 0.0;
   EXPECT_THROW(options.Check(), std::invalid_argument);
+}
+
+// Values a reviewer's --config took past 60 s or into bad_alloc on a 5 s drive: each spacing,
+// density and step is bounded now, and 0 still turns a kind of object off.
+TEST(WorldOptions, RejectSpacingsDensitiesAndStepsThatCannotFinish) {
+  const auto rejected = [](auto change) {
+    WorldOptions options;
+    change(options);
+    EXPECT_THROW(options.Check(), std::invalid_argument);
+  };
+  rejected([](WorldOptions& o) { o.roadside.pole_spacing_m = 1e-6; });
+  rejected([](WorldOptions& o) { o.roadside.sign_spacing_m = 0.1; });
+  rejected([](WorldOptions& o) { o.roadside.tree_spacing_m = 0.4; });
+  rejected([](WorldOptions& o) { o.roadside.guard_rail_post_spacing_m = 1e-5; });
+  rejected(
+      [](WorldOptions& o) { o.roadside.pole_spacing_m = std::numeric_limits<double>::infinity(); });
+  rejected([](WorldOptions& o) {
+    o.roadside.building_min_length_m = 1e-6;
+    o.roadside.building_max_length_m = 1e-6;
+  });
+  rejected([](WorldOptions& o) { o.roadside.terrain_half_width_m = 1e9; });
+  rejected([](WorldOptions& o) { o.road.max_station_step_m = 1e-7; });
+  rejected([](WorldOptions& o) { o.road.highway_lanes = 1000000; });
+  rejected([](WorldOptions& o) { o.traffic.oncoming_cars_per_km = 1e7; });
+  rejected([](WorldOptions& o) { o.traffic.cyclists_per_km = 501.0; });
+  rejected([](WorldOptions& o) { o.traffic.highway_cars_per_km_lane = 1e7; });
+  rejected([](WorldOptions& o) { o.traffic.highway_max_speed_mps = 1e12; });
+  WorldOptions none;
+  none.roadside.pole_spacing_m = 0.0;
+  none.roadside.sign_spacing_m = 0.0;
+  none.roadside.tree_spacing_m = 0.0;
+  none.roadside.guard_rail_post_spacing_m = 0.0;
+  none.traffic.oncoming_cars_per_km = 0.0;
+  EXPECT_NO_THROW(none.Check());
+  WorldOptions dense;
+  dense.roadside.pole_spacing_m = 0.5;
+  dense.traffic.oncoming_cars_per_km = 500.0;
+  dense.road.max_station_step_m = 0.05;
+  EXPECT_NO_THROW(dense.Check());
 }
 
 }  // namespace
