@@ -33,7 +33,7 @@ io::InsReadOptions read_options(const CalibrateInsArguments& arguments) {
 
 ins::InsCalibrationOptions calibration_options(const CalibrateInsArguments& arguments) {
   ins::InsCalibrationOptions options;
-  options.yaw_method = ins::ins_yaw_method_from_string(arguments.yaw_method);
+  options.yaw_method = yaw_method_from_string(arguments.yaw_method);
   options.alignment.segments.min_speed = arguments.min_speed;
   options.alignment.segments.max_abs_curvature = arguments.max_curvature;
   options.alignment.segments.min_duration_s = arguments.min_segment_s;

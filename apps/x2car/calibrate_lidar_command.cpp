@@ -23,7 +23,7 @@ struct CalibrateLidarArguments {
 
 lidar::LidarCalibrationOptions calibration_options(const CalibrateLidarArguments& arguments) {
   lidar::LidarCalibrationOptions options;
-  options.yaw_method = lidar::lidar_yaw_method_from_string(arguments.yaw_method);
+  options.yaw_method = yaw_method_from_string(arguments.yaw_method);
   options.ground_every = arguments.ground_every;
   options.max_ground_turn_rate = rad_from_deg(arguments.max_turn_rate_deg_s);
   options.alignment.segments.min_speed = arguments.min_speed;

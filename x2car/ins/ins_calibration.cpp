@@ -66,67 +66,22 @@ void add_series(const TrackAlignment& alignment, CalibrationResult& result) {
 }
 
 // Picks the reported yaw and cross-checks it against the other method's.
-void choose_yaw(const TrackAlignment& alignment, const InsCalibrationOptions& options,
-                CalibrationResult& result) {
-  const SegmentAverage& track_yaw = *alignment.yaw;
-  const SegmentAverage& velocity_yaw = *alignment.velocity_yaw_estimate;
-  const bool use_velocity = options.yaw_method == InsYawMethod::kVelocityDirection ||
-                            (options.yaw_method == InsYawMethod::kAuto &&
-                             velocity_yaw.standard_error < track_yaw.standard_error);
-  const SegmentAverage& chosen = use_velocity ? velocity_yaw : track_yaw;
-  result.yaw = chosen.value;
-  result.yaw_std = chosen.standard_error;
-  result.method = use_velocity ? "velocity_direction" : "track_heading";
-  result.rejections["outlier"] = chosen.outliers;
-  const double difference = angle_difference(velocity_yaw.value, track_yaw.value);
-  const double combined_std = std::hypot(track_yaw.standard_error, velocity_yaw.standard_error);
-  result.diagnostics["track_method_yaw_deg"] = deg_from_rad(track_yaw.value);
-  result.diagnostics["track_method_yaw_std_deg"] = deg_from_rad(track_yaw.standard_error);
-  result.diagnostics["velocity_method_yaw_deg"] = deg_from_rad(velocity_yaw.value);
-  result.diagnostics["velocity_method_yaw_std_deg"] = deg_from_rad(velocity_yaw.standard_error);
-  result.diagnostics["yaw_disagreement_deg"] = deg_from_rad(difference);
-  if (std::abs(difference) > options.min_disagreement &&
-      std::abs(difference) > options.disagreement_sigmas * combined_std) {
-    result.reason = fmt::format(
-        "the velocity-direction yaw ({:.3f} deg) differs from the track-heading yaw ({:.3f} deg) "
-        "by {:.3f} deg, more than {:g} standard errors: check for sideslip, a lever arm far from "
-        "the rear axle, or velocities in another frame",
-        deg_from_rad(velocity_yaw.value), deg_from_rad(track_yaw.value), deg_from_rad(difference),
-        options.disagreement_sigmas);
+void choose_ins_yaw(const TrackAlignment& alignment, const InsCalibrationOptions& options,
+                    CalibrationResult& result) {
+  const YawChoice choice = choose_yaw(alignment, options.yaw_method, options.disagreement, result);
+  result.rejections["outlier"] = choice.reported->outliers;
+  if (choice.disagreement) {
+    result.reason = *choice.disagreement +
+                    ": check for sideslip, a lever arm far from the rear axle, or velocities in "
+                    "another frame";
   }
 }
 
 }  // namespace
 
-const char* to_string(InsYawMethod method) {
-  switch (method) {
-    case InsYawMethod::kAuto:
-      return "auto";
-    case InsYawMethod::kTrackHeading:
-      return "track_heading";
-    case InsYawMethod::kVelocityDirection:
-      return "velocity_direction";
-  }
-  return "unknown";
-}
-
-InsYawMethod ins_yaw_method_from_string(const std::string& text) {
-  for (const auto method :
-       {InsYawMethod::kAuto, InsYawMethod::kTrackHeading, InsYawMethod::kVelocityDirection}) {
-    if (text == to_string(method)) return method;
-  }
-  throw std::invalid_argument("unknown yaw method '" + text +
-                              "' (auto, track_heading, velocity_direction)");
-}
-
 void InsCalibrationOptions::Check() const {
   alignment.Check();
-  if (!(disagreement_sigmas > 0.0)) {
-    throw std::invalid_argument("ins calibration: disagreement_sigmas must be positive");
-  }
-  if (!(min_disagreement >= 0.0)) {
-    throw std::invalid_argument("ins calibration: min_disagreement must be >= 0");
-  }
+  disagreement.Check();
 }
 
 CalibrationResult calibrate_ins(std::span<const io::InsRecord> records,
@@ -162,7 +117,7 @@ CalibrationResult calibrate_ins(std::span<const io::InsRecord> records,
         static_cast<std::int64_t>(alignment.segmentation.sample_count());
     result.diagnostics["pitch_per_acceleration_deg_per_mps2"] =
         deg_from_rad(alignment.pitch_per_acceleration);
-    choose_yaw(alignment, options, result);
+    choose_ins_yaw(alignment, options, result);
   }
   if (options.keep_series) add_series(alignment, result);
   result.seconds =

@@ -61,7 +61,7 @@ TEST(InsCalibration, TrackHeadingMethodAloneWithRtk) {
   for (std::uint64_t seed = 1; seed <= 5; ++seed) {
     SCOPED_TRACE(::testing::Message() << "seed " << seed);
     InsCalibrationOptions options;
-    options.yaw_method = InsYawMethod::kTrackHeading;
+    options.yaw_method = YawMethod::kTrackHeading;
     EXPECT_LE(
         std::abs(calibrate_and_compare(drive(sim::Scenario::kUrban, 120.0, seed), options).yaw_deg),
         0.05);
@@ -183,14 +183,6 @@ TEST(InsCalibrationTiming, TenMinutesOfDataCalibrateWithinTheTimeBudget) {
   }
   EXPECT_LE(fastest, 0.2);
 #endif
-}
-
-TEST(InsCalibration, YawMethodNamesRoundTrip) {
-  for (const auto method :
-       {InsYawMethod::kAuto, InsYawMethod::kTrackHeading, InsYawMethod::kVelocityDirection}) {
-    EXPECT_EQ(ins_yaw_method_from_string(to_string(method)), method);
-  }
-  EXPECT_THROW(ins_yaw_method_from_string("best"), std::invalid_argument);
 }
 
 }  // namespace

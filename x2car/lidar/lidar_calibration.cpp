@@ -231,13 +231,6 @@ SensorTrack levelled_track(const std::vector<OdometryStep>& steps, double roll, 
   return track;
 }
 
-bool disagree(double a, double a_std, double b, double b_std,
-              const LidarCalibrationOptions& options) {
-  const double difference = std::abs(angle_difference(a, b));
-  return difference > options.min_disagreement &&
-         difference > options.disagreement_sigmas * std::hypot(a_std, b_std);
-}
-
 void append_reason(CalibrationResult& result, const std::string& text) {
   result.reason += result.reason.empty() ? text : "; " + text;
 }
@@ -270,38 +263,18 @@ void add_yaw(const TrackAlignment& alignment, const LidarCalibrationOptions& opt
     append_reason(result, "yaw: " + *alignment.insufficient_reason);
     return;
   }
-  const SegmentAverage& track_yaw = *alignment.yaw;
-  const SegmentAverage& velocity_yaw = *alignment.velocity_yaw_estimate;
-  const bool use_velocity = options.yaw_method == LidarYawMethod::kVelocityDirection ||
-                            (options.yaw_method == LidarYawMethod::kAuto &&
-                             velocity_yaw.standard_error < track_yaw.standard_error);
-  const SegmentAverage& chosen = use_velocity ? velocity_yaw : track_yaw;
-  result.yaw = chosen.value;
-  result.yaw_std = chosen.standard_error;
-  result.method = use_velocity ? "velocity_direction" : "track_heading";
-  result.support["segments"] = static_cast<std::int64_t>(track_yaw.segments.size());
+  const YawChoice choice = choose_yaw(alignment, options.yaw_method, options.disagreement, result);
+  if (choice.disagreement) append_reason(result, *choice.disagreement);
+  result.support["segments"] = static_cast<std::int64_t>(alignment.yaw->segments.size());
   result.support["valid_sweeps"] = static_cast<std::int64_t>(alignment.segmentation.sample_count());
-  result.diagnostics["track_method_yaw_deg"] = deg_from_rad(track_yaw.value);
-  result.diagnostics["track_method_yaw_std_deg"] = deg_from_rad(track_yaw.standard_error);
-  result.diagnostics["velocity_method_yaw_deg"] = deg_from_rad(velocity_yaw.value);
-  result.diagnostics["velocity_method_yaw_std_deg"] = deg_from_rad(velocity_yaw.standard_error);
-  result.diagnostics["yaw_disagreement_deg"] =
-      deg_from_rad(angle_difference(velocity_yaw.value, track_yaw.value));
-  if (disagree(track_yaw.value, track_yaw.standard_error, velocity_yaw.value,
-               velocity_yaw.standard_error, options)) {
-    append_reason(result,
-                  fmt::format("the velocity-direction yaw ({:.3f} deg) differs from the "
-                              "track-heading yaw ({:.3f} deg)",
-                              deg_from_rad(velocity_yaw.value), deg_from_rad(track_yaw.value)));
-  }
   // The levelled frame is pitched by the ground's error: the velocity's pitch in it is minus that
   // error, so adding it gives the motion's own estimate of the pitch.
   const SegmentAverage& residual_pitch = *alignment.velocity_pitch_estimate;
   const double motion_pitch = *result.pitch + residual_pitch.value;
   result.diagnostics["motion_pitch_deg"] = deg_from_rad(motion_pitch);
   result.diagnostics["motion_pitch_std_deg"] = deg_from_rad(residual_pitch.standard_error);
-  if (disagree(motion_pitch, residual_pitch.standard_error, *result.pitch, *result.pitch_std,
-               options)) {
+  if (options.disagreement(motion_pitch, residual_pitch.standard_error, *result.pitch,
+                           *result.pitch_std)) {
     append_reason(result,
                   fmt::format("the pitch from the motion ({:.3f} deg) differs from the ground's "
                               "({:.3f} deg): check the odometry and the ground fits",
@@ -345,32 +318,12 @@ double path_length(const std::vector<OdometryStep>& steps) {
 
 }  // namespace
 
-const char* to_string(LidarYawMethod method) {
-  switch (method) {
-    case LidarYawMethod::kAuto:
-      return "auto";
-    case LidarYawMethod::kTrackHeading:
-      return "track_heading";
-    case LidarYawMethod::kVelocityDirection:
-      return "velocity_direction";
-  }
-  return "unknown";
-}
-
-LidarYawMethod lidar_yaw_method_from_string(const std::string& text) {
-  for (const auto method :
-       {LidarYawMethod::kAuto, LidarYawMethod::kTrackHeading, LidarYawMethod::kVelocityDirection}) {
-    if (text == to_string(method)) return method;
-  }
-  throw std::invalid_argument("unknown yaw method '" + text +
-                              "' (auto, track_heading, velocity_direction)");
-}
-
 void LidarCalibrationOptions::Check() const {
   odometry.Check();
   ground.Check();
   alignment.Check();
   ground_outliers.Check();
+  disagreement.Check();
   const auto require = [](bool condition, const char* message) {
     if (!condition) throw std::invalid_argument(std::string("lidar calibration: ") + message);
   };
@@ -381,8 +334,6 @@ void LidarCalibrationOptions::Check() const {
   require(min_ground_frames >= 2, "min_ground_frames must be at least 2");
   require(max_failed_registration_share >= 0.0 && max_failed_registration_share <= 1.0,
           "max_failed_registration_share must be in [0, 1]");
-  require(disagreement_sigmas > 0.0, "disagreement_sigmas must be positive");
-  require(min_disagreement >= 0.0, "min_disagreement must be >= 0");
 }
 
 SweepSource sweep_source_from(const SweepFolder& folder) {

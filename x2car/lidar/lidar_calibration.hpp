@@ -21,23 +21,13 @@
 #include "x2car/core/calibration_result.hpp"
 #include "x2car/core/rotation.hpp"
 #include "x2car/core/track_alignment.hpp"
+#include "x2car/core/yaw_choice.hpp"
 #include "x2car/io/point_cloud.hpp"
 #include "x2car/lidar/ground.hpp"
 #include "x2car/lidar/odometry.hpp"
 #include "x2car/lidar/sweep_folder.hpp"
 
 namespace x2car::lidar {
-
-// Which yaw the result reports (both are always computed and kept in the diagnostics).
-enum class LidarYawMethod {
-  kAuto,               // the one with the smaller standard error
-  kTrackHeading,       // the paper's
-  kVelocityDirection,  // non-holonomic
-};
-
-// "auto", "track_heading", "velocity_direction"; parsing throws std::invalid_argument otherwise.
-const char* to_string(LidarYawMethod method);
-LidarYawMethod lidar_yaw_method_from_string(const std::string& text);
 
 struct LidarCalibrationOptions {
   OdometryOptions odometry;
@@ -55,16 +45,16 @@ struct LidarCalibrationOptions {
   double block_s = 5.0;
   // Spline, gates and averaging of the yaw; see core/track_alignment.hpp.
   TrackAlignmentOptions alignment;
-  LidarYawMethod yaw_method = LidarYawMethod::kAuto;
+  // Which yaw the result reports (both are always computed and kept in the diagnostics).
+  YawMethod yaw_method = YawMethod::kAuto;
   // Fewer sweeps than this, or fewer usable ground frames, is insufficient data.
   std::size_t min_sweeps = 20;
   std::size_t min_ground_frames = 10;
   // More failed registrations than this share of the sweeps makes the yaw untrustworthy.
   double max_failed_registration_share = 0.05;
-  // Two estimates of the same angle that differ by more than this many combined standard errors
-  // and by more than min_disagreement are reported in `reason`.
-  double disagreement_sigmas = 3.0;
-  double min_disagreement = rad_from_deg(0.05);  // [rad]
+  // The two yaws, and the ground's pitch against the motion's, are cross-checks of each other:
+  // disagreements are reported in `reason`.
+  DisagreementTest disagreement;
   bool keep_series = true;  // per-frame ground normals, heights and heading offsets
   std::uint64_t seed = 1;   // of the ground's RANSAC
 

@@ -89,8 +89,6 @@ TEST(LidarCalibration, OptionsAreChecked) {
   LidarCalibrationOptions options;
   options.ground_every = 0;
   EXPECT_THROW(options.Check(), std::invalid_argument);
-  EXPECT_EQ(lidar_yaw_method_from_string("track_heading"), LidarYawMethod::kTrackHeading);
-  EXPECT_THROW(lidar_yaw_method_from_string("compass"), std::invalid_argument);
 }
 
 }  // namespace
