@@ -3,6 +3,7 @@
 
 #include "apps/x2car/calibration_output.hpp"
 #include "apps/x2car/subcommand.hpp"
+#include "apps/x2car/track_options.hpp"
 #include "x2car/core/rotation.hpp"
 #include "x2car/ins/ins_calibration.hpp"
 #include "x2car/io/ins_log.hpp"
@@ -14,10 +15,7 @@ struct CalibrateInsArguments {
   std::string input_path;
   std::string format = "auto";
   std::string yaw_convention;  // empty: as the CSV header says
-  std::string yaw_method = "auto";
-  double min_speed = 3.0;
-  double max_curvature = 0.01;
-  double min_segment_s = 5.0;
+  TrackArguments track;
   bool spline_velocity = false;
   OutputArguments output;
 };
@@ -33,10 +31,7 @@ io::InsReadOptions read_options(const CalibrateInsArguments& arguments) {
 
 ins::InsCalibrationOptions calibration_options(const CalibrateInsArguments& arguments) {
   ins::InsCalibrationOptions options;
-  options.yaw_method = yaw_method_from_string(arguments.yaw_method);
-  options.alignment.segments.min_speed = arguments.min_speed;
-  options.alignment.segments.max_abs_curvature = arguments.max_curvature;
-  options.alignment.segments.min_duration_s = arguments.min_segment_s;
+  options.yaw_method = apply_track_arguments(arguments.track, options.alignment);
   options.use_device_velocity = !arguments.spline_velocity;
   options.keep_series = !arguments.output.without_series;
   return options;
@@ -70,26 +65,7 @@ RunCommand setup_calibrate_ins_command(CLI::App& command) {
                   "east) or azimuth (clockwise from north)")
       ->type_name("NAME")
       ->check(CLI::IsMember({"enu", "azimuth"}));
-  command
-      .add_option("--yaw-method", arguments->yaw_method,
-                  "Yaw reported: auto (smaller standard error), track_heading (the paper's) or "
-                  "velocity_direction")
-      ->type_name("NAME")
-      ->check(CLI::IsMember({"auto", "track_heading", "velocity_direction"}))
-      ->capture_default_str();
-  command.add_option("--min-speed", arguments->min_speed, "Slower samples are not used [m/s]")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  command
-      .add_option("--max-curvature", arguments->max_curvature,
-                  "Samples in sharper turns are not used [1/m]")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  command
-      .add_option("--min-segment", arguments->min_segment_s,
-                  "Shortest run of usable samples kept [s]")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+  add_track_options(command, arguments->track, "samples");
   command.add_flag("--spline-velocity", arguments->spline_velocity,
                    "Ignore the device's velocity; use the smoothed track's");
   add_output_options(command, arguments->output);
