@@ -76,28 +76,21 @@ SweepPass run_sweep_pass(const SweepSource& sweeps, const LidarCalibrationOption
   return pass;
 }
 
-// The car's motion at each sweep from the odometry's poses: what the ground's gates test.
-struct SweepMotion {
-  std::vector<double> speed;      // [m/s]
-  std::vector<double> turn_rate;  // angular rate of the LiDAR [rad/s]
-};
-
-SweepMotion motion_from(const std::vector<OdometryStep>& steps) {
+// The LiDAR's angular rate at each sweep from the odometry's poses [rad/s]: what the ground's turn
+// gate tests.
+std::vector<double> turn_rates_from(const std::vector<OdometryStep>& steps) {
   const std::size_t n = steps.size();
-  SweepMotion motion;
-  motion.speed.assign(n, 0.0);
-  motion.turn_rate.assign(n, 0.0);
-  if (n < 3) return motion;
+  std::vector<double> turn_rate(n, 0.0);
+  if (n < 3) return turn_rate;
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t before = i == 0 ? 0 : i - 1;
     const std::size_t after = std::min(n - 1, i + 1);
-    const double dt = steps[after].time - steps[before].time;
-    const Eigen::Isometry3d& a = steps[before].world_from_lidar;
-    const Eigen::Isometry3d& b = steps[after].world_from_lidar;
-    motion.speed[i] = (b.translation() - a.translation()).norm() / dt;
-    motion.turn_rate[i] = Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() / dt;
+    const Eigen::Matrix3d& a = steps[before].world_from_lidar.linear();
+    const Eigen::Matrix3d& b = steps[after].world_from_lidar.linear();
+    turn_rate[i] =
+        Eigen::AngleAxisd(a.transpose() * b).angle() / (steps[after].time - steps[before].time);
   }
-  return motion;
+  return turn_rate;
 }
 
 bool registered(const OdometryStep& step) {
@@ -117,7 +110,7 @@ struct GroundFrames {
   std::int64_t unregistered = 0;
 };
 
-GroundFrames gate_ground_frames(const SweepPass& pass, const SweepMotion& motion,
+GroundFrames gate_ground_frames(const SweepPass& pass, const std::vector<double>& turn_rate,
                                 const LidarCalibrationOptions& options) {
   GroundFrames frames;
   const std::size_t n = pass.steps.size();
@@ -136,7 +129,7 @@ GroundFrames gate_ground_frames(const SweepPass& pass, const SweepMotion& motion
       ++frames.unregistered;
       continue;
     }
-    if (motion.turn_rate[i] > options.max_ground_turn_rate) {
+    if (turn_rate[i] > options.max_ground_turn_rate) {
       ++frames.turning;
       continue;
     }
@@ -358,7 +351,6 @@ CalibrationResult calibrate_lidar(const SweepSource& sweeps,
                              count, options.min_sweeps, options.alignment.min_valid_duration_s));
   }
   const SweepPass pass = run_sweep_pass(sweeps, options);
-  const SweepMotion motion = motion_from(pass.steps);
 
   CalibrationResult result;
   result.sensor = kSensor;
@@ -377,7 +369,7 @@ CalibrationResult calibrate_lidar(const SweepSource& sweeps,
   result.rejections["non_finite_points"] = skipped_points;
   result.diagnostics["odometry_path_length_m"] = path_length(pass.steps);
 
-  const GroundFrames frames = gate_ground_frames(pass, motion, options);
+  const GroundFrames frames = gate_ground_frames(pass, turn_rates_from(pass.steps), options);
   result.rejections["ground_failed"] = frames.failed;
   result.rejections["ground_turning"] = frames.turning;
   result.rejections["ground_unregistered"] = frames.unregistered;
