@@ -14,6 +14,8 @@
 #include <utility>
 #include <vector>
 
+#include "x2car/io/text_lines.hpp"
+
 namespace x2car::cli {
 namespace {
 
@@ -215,13 +217,9 @@ TEST(Simulate, CameraWritesItsIntrinsicsBesideTheIns) {
   EXPECT_THAT(run.output, HasSubstr("camera: 1920x1080, fx 1200 fy 1200"));
   EXPECT_THAT(run.output, HasSubstr("    camera "));  // its true mounting
   EXPECT_TRUE(std::filesystem::exists(folder / "ins/novatel_enu.csv"));
-  std::ifstream intrinsics(folder / "camera/intrinsics.yaml");
-  const std::string text((std::istreambuf_iterator<char>(intrinsics)),
-                         std::istreambuf_iterator<char>());
+  const std::string text = io::read_text_file(folder / "camera/intrinsics.yaml");
   EXPECT_THAT(text, HasSubstr("fx: 1200\n"));
-  std::ifstream truth(folder / "ground_truth.yaml");
-  const std::string truth_text((std::istreambuf_iterator<char>(truth)),
-                               std::istreambuf_iterator<char>());
+  const std::string truth_text = io::read_text_file(folder / "ground_truth.yaml");
   EXPECT_THAT(truth_text, HasSubstr("vehicle_from_camera:\n"));
   EXPECT_THAT(truth_text, HasSubstr("vehicle_from_ins:\n"));
 }
@@ -357,9 +355,7 @@ TEST(Simulate, RadarDriveCalibratesToTheTrueYaw) {
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_THAT(run.output, HasSubstr("radar: "));
   EXPECT_TRUE(std::filesystem::exists(folder / "radar_truth.csv"));
-  std::ifstream truth_file(folder / "ground_truth.yaml");
-  const std::string truth((std::istreambuf_iterator<char>(truth_file)),
-                          std::istreambuf_iterator<char>());
+  const std::string truth = io::read_text_file(folder / "ground_truth.yaml");
   const double true_yaw_deg = number_after(truth, "vehicle_from_radar:", "yaw") * 180.0 / M_PI;
   const double x = number_after(truth, "vehicle_from_radar:", "x");
   const double y = number_after(truth, "vehicle_from_radar:", "y");
@@ -371,9 +367,7 @@ TEST(Simulate, RadarDriveCalibratesToTheTrueYaw) {
                 (folder / "ins/novatel_enu.csv").string() + " --lever-arm " + std::to_string(x) +
                 " " + std::to_string(y) + " --out " + json.string());
   ASSERT_EQ(calibrate.exit_code, 0) << calibrate.output;
-  std::ifstream result_file(json);
-  const std::string result((std::istreambuf_iterator<char>(result_file)),
-                           std::istreambuf_iterator<char>());
+  const std::string result = io::read_text_file(json);
   // The Doppler of about a thousand static targets pins the yaw to a few hundredths of a degree;
   // 0.2 deg leaves room for the GNSS/INS's own heading and velocity errors.
   EXPECT_NEAR(number_after(result, "", "\"yaw_deg\""), true_yaw_deg, 0.2) << result;
@@ -410,8 +404,7 @@ TEST(CalibrateIns, RecoversTheSimulatedMountingAndWritesEveryForm) {
                 json.string() + " --yaml " + yaml.string() + " --urdf " + urdf.string());
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_THAT(run.output, HasSubstr("roll   not observable"));
-  std::ifstream file(json);
-  const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const std::string text = io::read_text_file(json);
   EXPECT_THAT(text, HasSubstr("\"roll_deg\": null"));
   // "yaw_deg": 2.0xx and "pitch_deg": 1.0xx within 0.05 deg.
   const auto number_after = [&](const std::string& key) {
@@ -468,9 +461,7 @@ TEST(CalibrateRadar, PositionAndAutoMethods) {
   const CliRun simulate = run_x2car("simulate --scenario urban --duration 60 --seed 4 " +
                                     std::string("--sensors ins,radar --out ") + folder.string());
   ASSERT_EQ(simulate.exit_code, 0) << simulate.output;
-  std::ifstream truth_file(folder / "ground_truth.yaml");
-  const std::string truth((std::istreambuf_iterator<char>(truth_file)),
-                          std::istreambuf_iterator<char>());
+  const std::string truth = io::read_text_file(folder / "ground_truth.yaml");
   const double true_yaw_deg = number_after(truth, "vehicle_from_radar:", "yaw") * 180.0 / M_PI;
   const std::string lever_arm = std::to_string(number_after(truth, "vehicle_from_radar:", "x")) +
                                 " " +
@@ -483,9 +474,7 @@ TEST(CalibrateRadar, PositionAndAutoMethods) {
   const CliRun position = run_x2car(inputs + " --method position --out " + json.string());
   ASSERT_EQ(position.exit_code, 0) << position.output;
   EXPECT_THAT(position.output, HasSubstr("method position"));
-  std::ifstream result_file(json);
-  const std::string result((std::istreambuf_iterator<char>(result_file)),
-                           std::istreambuf_iterator<char>());
+  const std::string result = io::read_text_file(json);
   EXPECT_THAT(result, HasSubstr("\"static_objects\""));
   EXPECT_NEAR(number_after(result, "", "\"yaw_deg\""), true_yaw_deg, 0.2) << result;
 
@@ -510,17 +499,13 @@ TEST(CalibrateLidar, RecoversTheSimulatedMountingFromPcdFiles) {
       "--out " +
       folder.string());
   ASSERT_EQ(simulate.exit_code, 0) << simulate.output;
-  std::ifstream truth_file(folder / "ground_truth.yaml");
-  const std::string truth((std::istreambuf_iterator<char>(truth_file)),
-                          std::istreambuf_iterator<char>());
+  const std::string truth = io::read_text_file(folder / "ground_truth.yaml");
   const auto json = folder / "lidar_result.json";
   const CliRun calibrate = run_x2car("calibrate lidar --input " + folder.string() + " --out " +
                                      json.string() + " --without-series");
   ASSERT_EQ(calibrate.exit_code, 0) << calibrate.output;
   EXPECT_THAT(calibrate.output, HasSubstr("found 300 sweeps"));
-  std::ifstream result_file(json);
-  const std::string result((std::istreambuf_iterator<char>(result_file)),
-                           std::istreambuf_iterator<char>());
+  const std::string result = io::read_text_file(json);
   constexpr double kDegPerRad = 180.0 / M_PI;
   for (const std::string angle : {"roll", "pitch", "yaw"}) {
     EXPECT_NEAR(number_after(result, "", "\"" + angle + "_deg\""),
