@@ -21,7 +21,8 @@ namespace {
 struct CalibrateRadarArguments {
   std::string input_path;
   std::string ins_path;
-  std::string layout = "conti";
+  std::string layout = "auto";
+  std::string angle_unit = io::to_string(io::RadarReadOptions{}.angle_unit);
   std::optional<std::string> method;
   std::vector<double> lever_arm_m;  // x y of the radar on the car [m], optional
   std::optional<double> min_speed_mps;
@@ -39,14 +40,23 @@ radar::RadarCalibrationOptions calibration_options(const CalibrateRadarArguments
   return options;
 }
 
+io::RadarReadOptions read_options(const CalibrateRadarArguments& arguments) {
+  io::RadarReadOptions options;
+  if (arguments.layout != "auto") options.layout = io::radar_layout_from_string(arguments.layout);
+  options.angle_unit = io::angle_unit_from_string(arguments.angle_unit);
+  return options;
+}
+
 int run_calibrate_radar(const CalibrateRadarArguments& arguments) {
   check_output_arguments(arguments.output,
                          {{{"--input", arguments.input_path}, {"--ins", arguments.ins_path}}});
-  const io::RadarLog radar_log =
-      io::read_radar(arguments.input_path, io::radar_layout_from_string(arguments.layout));
+  const io::RadarReadOptions radar_options = read_options(arguments);
+  const io::RadarLog radar_log = io::read_radar(arguments.input_path, radar_options);
   const io::InsLog ins_log = io::read_ins_log(arguments.ins_path);
+  for (const std::string& notice : radar_log.notices) spdlog::warn("{}", notice);
+  for (const std::string& notice : ins_log.notices) spdlog::warn("{}", notice);
   spdlog::info("read {} radar detections ({}) from {} and {} GNSS/INS samples from {}",
-               radar_log.detections.size(), arguments.layout, arguments.input_path,
+               radar_log.detections.size(), io::to_string(radar_log.layout), arguments.input_path,
                ins_log.records.size(), arguments.ins_path);
   // Put the radar's times on the GNSS/INS log's clock.
   const double offset_s =
@@ -73,9 +83,19 @@ RunCommand setup_calibrate_radar_command(CLI::App& command) {
                   "folder")
       ->type_name("FILE")
       ->required();
-  command.add_option("--layout", arguments->layout, "Layout of the radar files")
+  command
+      .add_option("--layout", arguments->layout,
+                  "Layout of the radar files; auto tells conti, delphi and generic apart from the "
+                  "files")
       ->type_name("NAME")
-      ->check(CLI::IsMember({"conti", "delphi", "generic"}))
+      ->check(CLI::IsMember({"auto", "conti", "delphi", "generic"}))
+      ->capture_default_str();
+  command
+      .add_option("--angle-unit", arguments->angle_unit,
+                  "Unit of the generic CSV's azimuth and Delphi's bearing (conti has no angle "
+                  "column)")
+      ->type_name("UNIT")
+      ->check(CLI::IsMember({"rad", "deg"}))
       ->capture_default_str();
   command
       .add_option("--method", arguments->method,

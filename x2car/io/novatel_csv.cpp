@@ -261,6 +261,7 @@ NovatelLog parse_novatel_enu(std::string_view text, const std::string& source_na
     log.records.push_back(row.record);
   }
   check_increasing_times(times, numbers, source_name, kFields[0]);
+  log.gaps = find_time_gaps(times, numbers);
   log.start_unix_time = static_cast<double>(first_ns) / 1e9;
   return log;
 }

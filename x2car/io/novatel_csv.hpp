@@ -57,6 +57,7 @@ double gps_seconds_of_week(std::int64_t unix_time_ns);
 struct NovatelLog {
   double start_unix_time = 0.0;    // UTC of the first row [s since the Unix epoch]
   std::vector<InsRecord> records;  // times [s] relative to the first row; yaw in ENU
+  std::vector<TimeGap> gaps;       // forward jumps in the times (find_time_gaps)
 };
 
 // Row i is stamped start_unix_time + records[i].time (rounded to the microsecond); positions and
