@@ -3,6 +3,9 @@
 // each pair of observations of a static object, the velocity-consistency confidence, and the robust
 // weighted mean. Internal to x2car::radar.
 //
+// The paper's eq:radar_angle_1 (the triangle test) and eq:radar_angle_2 (psi from a pair) are
+// estimate_pair's closure_m and yaw; position_method combines the pairs.
+//
 // Geometry of one pair, exact (no small-angle shortcut). Observations 0 and 1 of one object at
 // ranges l0, l1 and azimuths th0, th1; between them the car turned by dh (INS yaw difference) and
 // the radar moved by b in the car's frame at observation 0:
