@@ -66,8 +66,7 @@ TEST(TrackAlignmentReport, SegmentSeriesHaveTheSegmentsMidTimes) {
   for (const char* name : {"segment_start_time", "segment_yaw", "segment_pitch"}) {
     EXPECT_THAT(series_named(result, name).time, ::testing::ElementsAre(15.0, 40.0)) << name;
   }
-  EXPECT_THAT(series_named(result, "segment_start_time").value,
-              ::testing::ElementsAre(10.0, 30.0));
+  EXPECT_THAT(series_named(result, "segment_start_time").value, ::testing::ElementsAre(10.0, 30.0));
   EXPECT_THAT(series_named(result, "segment_pitch").value, ::testing::ElementsAre(-0.01, -0.011));
   EXPECT_FALSE(result.yaw);  // no choice: no yaw
 }

@@ -67,6 +67,23 @@ void read_and_fit(const SweepSource& sweeps, const LidarCalibrationOptions& opti
   }
 }
 
+// The odometry stamps a pose at its sweep's time plus the deskew time (the middle of the points'
+// own times); per-point times from another origin can put a pose at or before the previous one,
+// which the odometry refuses. That is the input's fault: say which sweep.
+OdometryStep register_in_order(LidarOdometry& odometry, const SweepInFlight& sweep,
+                               const SweepSource& sweeps) {
+  try {
+    return odometry.register_sweep(sweep.cloud, sweeps.times[sweep.index]);
+  } catch (const std::invalid_argument& error) {
+    throw InputError(
+        fmt::format("sweep {} (time {:.6f} s)", sweep.index, sweeps.times[sweep.index]), 0, "t",
+        fmt::format("its points' times put its pose at or before the previous "
+                    "sweep's; are the per-point times relative to the sweep's start? "
+                    "({})",
+                    error.what()));
+  }
+}
+
 SweepPass run_sweep_pass(const SweepSource& sweeps, const LidarCalibrationOptions& options) {
   const std::size_t count = sweeps.times.size();
   SweepPass pass;
@@ -105,8 +122,7 @@ SweepPass run_sweep_pass(const SweepSource& sweeps, const LidarCalibrationOption
                   unreadable[sweep->index] = 1;
                   if (pass.unreadable++ == 0) pass.first_read_error = sweep->read_error;
                 } else {
-                  pass.steps[sweep->index] =
-                      odometry.register_sweep(sweep->cloud, sweeps.times[sweep->index]);
+                  pass.steps[sweep->index] = register_in_order(odometry, *sweep, sweeps);
                 }
                 if (options.progress) options.progress(++done, count);
               }));

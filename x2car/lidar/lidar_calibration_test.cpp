@@ -166,6 +166,28 @@ TEST(LidarCalibration, BadSweepsAreSkippedAndCountedWhenAsked) {
   EXPECT_NEAR(*result.z, *all_read.z, 0.005);
 }
 
+// Per-point times counted from another origin on every other sweep: the poses, stamped at their
+// sweeps' deskew times, come out of order. An input error naming the sweep and the field, not the
+// odometry's internal "sweep times must increase".
+TEST(LidarCalibration, PerPointTimesThatReorderThePosesAreAnInputError) {
+  SweepSource source = short_drive().source();
+  const auto read = source.read;
+  source.read = [read](std::size_t index) {
+    io::PointCloud cloud = read(index);
+    if (index % 2 == 1) {
+      for (io::LidarPoint& point : cloud.points) point.t += 0.15f;
+    }
+    return cloud;
+  };
+  try {
+    calibrate_lidar(source);
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& error) {
+    EXPECT_THAT(error.file(), HasSubstr("sweep 2"));
+    EXPECT_EQ(error.field(), "t");
+  }
+}
+
 // Issue 11: identical result bytes (timing left out) across runs and thread counts.
 TEST(LidarCalibration, IdenticalBytesAcrossRunsAndThreadCounts) {
   LidarCalibrationOptions options;
