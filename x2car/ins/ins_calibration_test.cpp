@@ -191,6 +191,30 @@ TEST(InsCalibration, AMillionSecondJumpInTheStampsCalibratesAsWithoutIt) {
   EXPECT_THAT(*result.yaw, AngleNearDeg(truth.yaw, 0.05));
 }
 
+// Valid but odd logs end in insufficient data with the counts, never in an internal error.
+TEST(InsCalibration, OddLogsAreInsufficientDataNotInternalErrors) {
+  const sim::Simulation simulation = sim::simulate(drive(sim::Scenario::kHighway, 60.0, 4));
+  // 3 s bursts 10 s apart: every piece too short to hold a 5 s run.
+  std::vector<io::InsRecord> bursts;
+  for (const io::InsRecord& record : simulation.ins) {
+    if (std::fmod(record.time, 10.0) < 3.0) bursts.push_back(record);
+  }
+  const CalibrationResult result = calibrate_ins(bursts);
+  EXPECT_EQ(result.status, CalibrationStatus::kInsufficientData);
+  EXPECT_EQ(result.rejections.at("short_piece"), static_cast<std::int64_t>(bursts.size()));
+  EXPECT_THAT(result.reason, HasSubstr("too short to smooth"));
+  // A second of 1 kHz stamps, and a log whose positions never change.
+  std::vector<io::InsRecord> dense(simulation.ins.begin(), simulation.ins.begin() + 1000);
+  for (std::size_t i = 0; i < dense.size(); ++i) dense[i].time = 1e-3 * static_cast<double>(i);
+  EXPECT_EQ(calibrate_ins(dense).status, CalibrationStatus::kInsufficientData);
+  std::vector<io::InsRecord> parked = simulation.ins;
+  for (io::InsRecord& record : parked) {
+    record.position_enu = simulation.ins.front().position_enu;
+    record.velocity_enu.setZero();
+  }
+  EXPECT_EQ(calibrate_ins(parked).status, CalibrationStatus::kInsufficientData);
+}
+
 TEST(InsCalibration, MinimumDurationCanBeRelaxedKnowingly) {
   const sim::Simulation simulation = sim::simulate(drive(sim::Scenario::kHighway, 20.0, 2));
   const CalibrationResult strict = calibrate_ins(simulation.ins);

@@ -200,6 +200,11 @@ CalibrationResult calibrate_radar(std::span<const io::RadarDetection> detections
     result.reason +=
         fmt::format(" ({} detections outside the GNSS/INS time span)", gated.outside_ins_span);
   }
+  if (gated.in_ins_gap > 0 && !result.ok()) {
+    result.reason += fmt::format(
+        " ({} detections between GNSS/INS records more than {:g} s apart, max_ins_gap_s)",
+        gated.in_ins_gap, options.max_ins_gap_s);
+  }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

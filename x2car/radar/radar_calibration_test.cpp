@@ -199,6 +199,19 @@ TEST(RadarCalibration, AMillionSecondJumpInTheStampsCalibratesAsWithoutIt) {
   EXPECT_NEAR(deg_from_rad(angle_difference(*result.yaw, rad_from_deg(5.0))), 0.0, 0.1);
 }
 
+TEST(RadarCalibration, ASparseInsLogSaysWhyTheDetectionsWereDropped) {
+  const Drive& drive = urban_drive(1);
+  const auto detections = radar_detections(drive, 5.0, sim::RadarOptions::conti_ars408(), 1);
+  std::vector<io::InsRecord> every_two_seconds;
+  for (std::size_t i = 0; i < drive.simulation.ins.size(); i += 200) {
+    every_two_seconds.push_back(drive.simulation.ins[i]);
+  }
+  const CalibrationResult result = calibrate_radar(detections, every_two_seconds);
+  EXPECT_FALSE(result.ok());
+  EXPECT_GT(result.rejections.at("in_ins_gap"), 0);
+  EXPECT_THAT(result.reason, HasSubstr("max_ins_gap_s"));
+}
+
 // Issue 11: identical result bytes (timing left out) across runs and thread counts.
 TEST(RadarCalibration, IdenticalBytesAcrossRunsAndThreadCounts) {
   const Drive& drive = urban_drive(2);
