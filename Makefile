@@ -35,3 +35,13 @@ format-check:
 
 clean:
 	@rm -rf build
+
+# ---- fuzzing (fuzz/README.md): clang + libFuzzer, one target at a time for FUZZ_SECONDS each ----
+FUZZ_SECONDS ?= 600
+.PHONY: fuzz fuzz-build
+fuzz-build:
+	@scripts/setup fuzz
+	@cmake --preset fuzz >/dev/null
+	@cmake --build --preset fuzz
+fuzz: fuzz-build
+	@FUZZ_SECONDS=$(FUZZ_SECONDS) fuzz/run $(FUZZ_TARGETS)

@@ -31,13 +31,14 @@ io::InsReadOptions read_options(const CalibrateInsArguments& arguments) {
 
 ins::InsCalibrationOptions calibration_options(const CalibrateInsArguments& arguments) {
   ins::InsCalibrationOptions options;
-  options.yaw_method = apply_track_arguments(arguments.track, options.alignment);
+  apply_track_arguments(arguments.track, options.alignment, options.yaw_method);
   options.use_device_velocity = !arguments.spline_velocity;
   options.keep_series = !arguments.output.without_series;
   return options;
 }
 
 int run_calibrate_ins(const CalibrateInsArguments& arguments) {
+  check_output_arguments(arguments.output, {{{"--input", arguments.input_path}}});
   const io::InsLog log = io::read_ins_log(arguments.input_path, read_options(arguments));
   spdlog::info("read {} GNSS/INS samples ({}) from {}", log.records.size(),
                io::to_string(log.format), arguments.input_path);

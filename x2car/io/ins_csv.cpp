@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "x2car/core/error.hpp"
+#include "x2car/io/novatel_csv.hpp"
 #include "x2car/io/text_lines.hpp"
 
 namespace x2car::io {
@@ -324,7 +325,7 @@ InsCsvLog parse_ins_csv_log(std::string_view text, const std::string& source_nam
   for (std::size_t i = 0; i < rows.size(); ++i) {
     InsRecord& record = log.records.emplace_back(rows[i].record);
     if (layout.time_ns) {
-      record.time = static_cast<double>(rows[i].time_ns - rows.front().time_ns) / 1e9;
+      record.time = seconds_between(rows[i].time_ns, rows.front().time_ns);
     }
     times.push_back(record.time);
     numbers.push_back(lines[i + 1].number);

@@ -102,7 +102,7 @@ std::vector<double> relative_times(std::span<const Stamp> stamps, const fs::path
   std::vector<double> times;
   std::vector<std::size_t> lines;
   for (const Stamp& stamp : stamps) {
-    times.push_back(static_cast<double>(stamp.unix_time_ns - stamps.front().unix_time_ns) / 1e9);
+    times.push_back(seconds_between(stamp.unix_time_ns, stamps.front().unix_time_ns));
     lines.push_back(stamp.line);
   }
   check_increasing_times(times, lines, file.string(), "timestamp");

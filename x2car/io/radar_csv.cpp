@@ -221,7 +221,7 @@ RadarLog make_radar_log(std::vector<StampedRadarDetection> rows) {
   log.start_unix_time = static_cast<double>(first_ns) / 1e9;
   log.detections.reserve(rows.size());
   for (StampedRadarDetection& row : rows) {
-    row.detection.time = static_cast<double>(row.unix_time_ns - first_ns) / 1e9;
+    row.detection.time = seconds_between(row.unix_time_ns, first_ns);
     log.detections.push_back(std::move(row.detection));
   }
   return log;
