@@ -7,6 +7,7 @@
 
 #include "apps/x2car/calibration_output.hpp"
 #include "apps/x2car/number_checks.hpp"
+#include "apps/x2car/progress_bar.hpp"
 #include "apps/x2car/subcommand.hpp"
 #include "apps/x2car/track_options.hpp"
 #include "x2car/lidar/lidar_calibration.hpp"
@@ -19,6 +20,7 @@ struct CalibrateLidarArguments {
   std::string input_path;
   std::optional<int> ground_every;
   std::optional<double> max_turn_rate_deg_s;
+  bool skip_bad_sweeps = false;
   TrackArguments track;
   OutputArguments output;
 };
@@ -31,6 +33,7 @@ lidar::LidarCalibrationOptions calibration_options(const CalibrateLidarArguments
     options.max_ground_turn_rate = rad_from_deg(*arguments.max_turn_rate_deg_s);
   }
   options.keep_series = !arguments.output.without_series;
+  options.skip_bad_sweeps = arguments.skip_bad_sweeps;
   return options;
 }
 
@@ -40,8 +43,12 @@ int run_calibrate_lidar(const CalibrateLidarArguments& arguments) {
   spdlog::info("found {} sweeps in {} (times from {}; {} other files ignored)",
                folder.sweeps.size(), folder.folder.string(), folder.time_source,
                folder.ignored_files);
+  lidar::LidarCalibrationOptions options = calibration_options(arguments);
+  ProgressBar progress("sweeps", spdlog::should_log(spdlog::level::info));
+  options.progress = progress.callback();
   const CalibrationResult result =
-      lidar::calibrate_lidar(lidar::sweep_source_from(folder), calibration_options(arguments));
+      lidar::calibrate_lidar(lidar::sweep_source_from(folder), options);
+  progress.finish();
   return finish_calibration(result, arguments.output);
 }
 
@@ -66,6 +73,9 @@ RunCommand setup_calibrate_lidar_command(CLI::App& command) {
                   "Sweeps turning faster are not used for the ground [deg/s]")
       ->check(positive_number())
       ->default_str(fmt::format("{:.4g}", deg_from_rad(defaults.max_ground_turn_rate)));
+  command.add_flag("--skip-bad-sweeps", arguments->skip_bad_sweeps,
+                   "Skip sweeps that cannot be read (truncated, corrupt) instead of stopping; "
+                   "they are counted in the result");
   add_track_options(command, arguments->track, "poses");
   add_output_options(command, arguments->output);
   command.footer(

@@ -14,9 +14,10 @@
 namespace x2car::cli {
 namespace {
 
+// `missing` says why an angle has no value.
 std::string angle_line(const char* name, const std::optional<double>& value,
-                       const std::optional<double>& standard_error) {
-  if (!value) return fmt::format("  {:<6} not observable by this method\n", name);
+                       const std::optional<double>& standard_error, const char* missing) {
+  if (!value) return fmt::format("  {:<6} {}\n", name, missing);
   return fmt::format("  {:<6} {:9.4f} deg  +- {:.4f} deg (standard error)\n", name,
                      deg_from_rad(*value), deg_from_rad(standard_error.value_or(0.0)));
 }
@@ -41,6 +42,9 @@ void add_output_options(CLI::App& command, OutputArguments& arguments) {
       ->type_name("FILE");
   command.add_flag("--without-series", arguments.without_series,
                    "Leave the per-sample series out of the JSON (smaller file)");
+  command.add_flag("--reproducible", arguments.reproducible,
+                   "Leave the wall time ('seconds') out of the JSON, so that identical runs write "
+                   "identical bytes");
 }
 
 void check_output_arguments(const OutputArguments& arguments, std::span<const NamedPath> inputs) {
@@ -53,20 +57,26 @@ void check_output_arguments(const OutputArguments& arguments, std::span<const Na
 std::string format_result_summary(const CalibrationResult& result) {
   std::string text;
   if (!result.ok()) {
-    return fmt::format("{}: insufficient data: {}\n", result.sensor, result.reason);
+    text = fmt::format("{}: insufficient data: {}\n", result.sensor, result.reason);
+    // What could be estimated is still shown (the LiDAR's ground when only its yaw lacks data);
+    // the status stays insufficient_data and nothing is written as a mounting.
+    if (!result.roll && !result.pitch && !result.yaw && !result.z) return text;
+    text += "  estimated so far (not a complete mounting):\n";
+  } else {
+    text += fmt::format("{}: vehicle_from_{} (method {}), {:.3f} s\n", result.sensor, result.sensor,
+                        result.method.empty() ? "-" : result.method, result.seconds);
   }
-  text += fmt::format("{}: vehicle_from_{} (method {}), {:.3f} s\n", result.sensor, result.sensor,
-                      result.method.empty() ? "-" : result.method, result.seconds);
-  text += angle_line("roll", result.roll, result.roll_std);
-  text += angle_line("pitch", result.pitch, result.pitch_std);
-  text += angle_line("yaw", result.yaw, result.yaw_std);
+  const char* missing = result.ok() ? "not observable by this method" : "not estimated";
+  text += angle_line("roll", result.roll, result.roll_std, missing);
+  text += angle_line("pitch", result.pitch, result.pitch_std, missing);
+  text += angle_line("yaw", result.yaw, result.yaw_std, missing);
   if (result.z) {
     text += fmt::format("  {:<6} {:9.4f} m    +- {:.4f} m\n", "z", *result.z,
                         result.z_std.value_or(0.0));
   }
   text += counts_line("support", result.support);
   text += counts_line("rejected", result.rejections);
-  if (!result.reason.empty()) text += fmt::format("  note: {}\n", result.reason);
+  if (result.ok() && !result.reason.empty()) text += fmt::format("  note: {}\n", result.reason);
   return text;
 }
 
@@ -75,8 +85,9 @@ int finish_calibration(const CalibrationResult& result, const OutputArguments& a
   // -v: the figures behind the estimate, which the summary leaves to the JSON.
   for (const auto& [name, value] : result.diagnostics) spdlog::debug("  {} = {:g}", name, value);
   if (!arguments.json_path.empty()) {
-    io::write_result_json(arguments.json_path, result,
-                          {.include_series = !arguments.without_series});
+    io::write_result_json(
+        arguments.json_path, result,
+        {.include_series = !arguments.without_series, .include_timing = !arguments.reproducible});
     spdlog::info("wrote {}", arguments.json_path);
   }
   if (!result.ok()) {

@@ -15,6 +15,7 @@ struct OutputArguments {
   std::string yaml_path;  // --yaml: Autoware sensor_kit_calibration.yaml style
   std::string urdf_path;  // --urdf: a URDF joint
   bool without_series = false;
+  bool reproducible = false;  // --reproducible: no wall time in the JSON, so runs compare equal
 };
 
 void add_output_options(CLI::App& command, OutputArguments& arguments);

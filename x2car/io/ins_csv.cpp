@@ -340,7 +340,8 @@ void InsCsvOptions::Check() const {
 }
 
 std::string format_ins_csv(std::span<const InsRecord> records) {
-  std::string text = std::string(kInsCsvHeader) + "\n";
+  std::string text(kInsCsvHeader);  // appended (GCC 12 false warning)
+  text += '\n';
   for (const InsRecord& record : records) text += format_row(record);
   return text;
 }

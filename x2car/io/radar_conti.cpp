@@ -81,7 +81,8 @@ StampedRadarDetection parse_row(const TextLine& line, const ContiColumns& column
 }  // namespace
 
 std::string format_conti_scan(std::span<const RadarDetection> scan, std::int64_t unix_time_ns) {
-  std::string text = std::string(kContiHeader) + "\n";
+  std::string text(kContiHeader);  // appended (GCC 12 false warning)
+  text += '\n';
   for (const RadarDetection& d : radar_scan_rows(scan, kContiMaxTrackId, "conti")) {
     text += fmt::format("{},{},{},{},{}\n", unix_time_ns, d.track_id,
                         format_numbers({d.vx, d.vy, d.x, d.y}, ","),

@@ -364,7 +364,8 @@ void write_radar_scan_files(const std::filesystem::path& folder,
 }
 
 std::string format_radar_csv(std::span<const RadarDetection> detections) {
-  std::string text = std::string(kRadarCsvHeader) + "\n";
+  std::string text(kRadarCsvHeader);  // appended (GCC 12 false warning)
+  text += '\n';
   for (const RadarDetection& detection : detections) text += format_generic_row(detection);
   return text;
 }

@@ -19,7 +19,8 @@ namespace {
 
 double checked(double value, const CalibrationResult& result, const char* name) {
   if (!std::isfinite(value)) {
-    throw std::invalid_argument(
+    // A calibrator's bug, not the user's input: the CLI reports it as an internal error.
+    throw std::logic_error(
         fmt::format("the {} result has a non-finite {} ({})", result.sensor, name, value));
   }
   return value;

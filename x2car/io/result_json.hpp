@@ -31,8 +31,8 @@ struct ResultJsonOptions {
   bool include_timing = true;
 };
 
-// Throws std::invalid_argument when an estimated value is not finite: writing it as null would
-// read as "not observable", which would hide the bug.
+// Throws std::logic_error (a bug: the CLI's exit code 3) when an estimated value is not finite:
+// writing it as null would read as "not observable", which would hide the bug.
 Json result_to_json(const CalibrationResult& result, const ResultJsonOptions& options = {});
 
 // Throws InputError naming `source_name` and the field (e.g. "std_deg.roll") on a wrong type, an

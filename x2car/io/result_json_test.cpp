@@ -183,10 +183,10 @@ TEST(ResultJson, SeriesCanBeOmitted) {
 TEST(ResultJson, NonFiniteEstimateIsABugNotANull) {
   CalibrationResult result = ins_result();
   result.yaw = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_THROW(result_to_json(result), std::invalid_argument);
+  EXPECT_THROW(result_to_json(result), std::logic_error);
   CalibrationResult bad_diagnostic = ins_result();
   bad_diagnostic.diagnostics["lever_m"] = std::numeric_limits<double>::infinity();
-  EXPECT_THROW(result_to_json(bad_diagnostic), std::invalid_argument);
+  EXPECT_THROW(result_to_json(bad_diagnostic), std::logic_error);
 }
 
 TEST(ResultJson, WrongTypesAreRejectedNamingTheField) {
