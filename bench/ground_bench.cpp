@@ -6,19 +6,15 @@
 #include "x2car/lidar/ground.hpp"
 #include "x2car/sim/lidar_model.hpp"
 #include "x2car/sim/simulation.hpp"
+#include "x2car/sim/test_drives.hpp"
 
 namespace x2car {
 namespace {
 
 // Arg: beams. 20 sweeps spread over a 20 s urban drive, fitted in turn.
 void BM_FitGround(benchmark::State& state) {
-  sim::SimulationOptions options;
-  options.scenario = sim::Scenario::kUrban;
-  options.duration_s = 20.0;
-  options.seed = 1;
-  options.sensors = {"lidar"};
-  options.lidar.beams = static_cast<int>(state.range(0));
-  const sim::Simulation simulation = sim::simulate(options);
+  const sim::Simulation simulation = sim::simulate(sim::testing::simulated_lidar_drive(
+      sim::Scenario::kUrban, 20.0, static_cast<int>(state.range(0)), 1));
   const sim::WorldScene scene(simulation.world);
   const sim::LidarSimulator lidar(
       scene, simulation.states,

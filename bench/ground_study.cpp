@@ -27,6 +27,7 @@
 #include "x2car/lidar/ground.hpp"
 #include "x2car/sim/lidar_model.hpp"
 #include "x2car/sim/simulation.hpp"
+#include "x2car/sim/test_drives.hpp"
 
 namespace x2car {
 namespace {
@@ -84,13 +85,8 @@ sim::VehicleState state_at(const sim::VehicleStates& states, double time) {
 
 void run_drive(std::uint64_t seed, int beams, std::size_t stride, double duration,
                sim::Scenario scenario, std::ostream& csv, double& total_ms, std::size_t& fits) {
-  sim::SimulationOptions options;
-  options.scenario = scenario;
-  options.duration_s = duration;
-  options.seed = seed;
-  options.sensors = {"lidar"};
-  options.lidar.beams = beams;
-  const sim::Simulation simulation = sim::simulate(options);
+  const sim::Simulation simulation =
+      sim::simulate(sim::testing::simulated_lidar_drive(scenario, duration, beams, seed));
   const Eigen::Isometry3d vehicle_from_lidar =
       simulation.truth.vehicle_from_sensor.at("lidar").vehicle_from_sensor();
   const sim::WorldScene scene(simulation.world);
@@ -105,7 +101,7 @@ void run_drive(std::uint64_t seed, int beams, std::size_t stride, double duratio
   tbb::parallel_for(std::size_t{0}, count, [&](std::size_t k) {
     const std::size_t index = k * stride;
     const sim::LidarSweep sweep = lidar.sweep(index);
-    const double t_mid = lidar.sweep_start_time(index) + 0.5 / options.lidar.rate_hz;
+    const double t_mid = lidar.sweep_start_time(index) + 0.5 / lidar.options().rate_hz;
     const sim::VehicleState state = state_at(simulation.states, t_mid);
     const sim::VehicleState before = state_at(simulation.states, std::max(0.0, t_mid - 0.3));
     const sim::RoadStation station = simulation.world.road.station_at(state.arc_length);

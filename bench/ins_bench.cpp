@@ -8,24 +8,27 @@
 
 #include "x2car/ins/ins_calibration.hpp"
 #include "x2car/sim/simulation.hpp"
+#include "x2car/sim/test_drives.hpp"
 
 namespace x2car {
 namespace {
 
 sim::SimulationOptions drive(sim::Scenario scenario, double duration_s, std::uint64_t seed,
                              bool sps) {
-  sim::SimulationOptions options;
-  options.scenario = scenario;
-  options.duration_s = duration_s;
-  options.seed = seed;
+  sim::SimulationOptions options = sim::testing::simulated_drive(scenario, duration_s, seed);
   if (sps) options.ins = sim::InsOptions::sps();
   return options;
 }
 
+// Issue 4: a 10-minute 100 Hz log calibrates in <= 0.2 s wall (was asserted in a unit test).
 void BM_CalibrateInsTenMinutes(benchmark::State& state) {
   const sim::Simulation simulation = sim::simulate(drive(sim::Scenario::kMixed, 600.0, 1, false));
   for (auto _ : state) {
     const CalibrationResult result = ins::calibrate_ins(simulation.ins);
+    if (!result.ok()) {
+      state.SkipWithError(result.reason.c_str());
+      return;
+    }
     benchmark::DoNotOptimize(result);
   }
   state.counters["per_minute"] = benchmark::Counter(

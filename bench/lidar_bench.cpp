@@ -7,8 +7,8 @@
 #include <atomic>
 #include <filesystem>
 
+#include "x2car/lidar/lidar_test_support.hpp"
 #include "x2car/lidar/odometry_error.hpp"
-#include "x2car/lidar/test_drives.hpp"
 #include "x2car/sim/lidar_writer.hpp"
 #include "x2car/sim/simulation.hpp"
 
@@ -16,13 +16,7 @@ namespace x2car {
 namespace {
 
 sim::SimulationOptions urban_lidar_drive(double duration_s, int beams) {
-  sim::SimulationOptions options;
-  options.scenario = sim::Scenario::kUrban;
-  options.duration_s = duration_s;
-  options.seed = 1;
-  options.sensors = {"lidar"};
-  options.lidar.beams = beams;
-  return options;
+  return sim::testing::simulated_lidar_drive(sim::Scenario::kUrban, duration_s, beams, 1);
 }
 
 // Adds the counter "per_minute": wall time per minute of recorded data.

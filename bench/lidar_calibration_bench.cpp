@@ -9,21 +9,16 @@
 #include <filesystem>
 
 #include "x2car/lidar/lidar_calibration.hpp"
+#include "x2car/lidar/lidar_test_support.hpp"
 #include "x2car/lidar/sweep_folder.hpp"
-#include "x2car/lidar/test_drives.hpp"
 #include "x2car/sim/simulation.hpp"
 
 namespace x2car {
 namespace {
 
 sim::SimulationOptions urban_drive(std::uint64_t seed, int beams) {
-  sim::SimulationOptions options;
-  options.scenario = sim::Scenario::kUrban;
-  options.duration_s = 60.0;
-  options.seed = seed;
-  options.sensors = {"ins", "lidar"};
-  options.lidar.beams = beams;
-  return options;
+  return sim::testing::simulated_lidar_drive(sim::Scenario::kUrban, 60.0, beams, seed,
+                                             {"ins", "lidar"});
 }
 
 void BM_CalibrateLidarOneMinuteFromFiles(benchmark::State& state) {
@@ -57,7 +52,8 @@ void BM_LidarAccuracy(benchmark::State& state) {
       const io::SensorMounting& truth = drive.truth();
       lidar::LidarCalibrationOptions options;
       options.keep_series = false;
-      const CalibrationResult result = lidar::calibrate_lidar(drive.source(), options);
+      const CalibrationResult result =
+          lidar::calibrate_lidar(lidar::testing::sweep_source(drive), options);
       if (!result.roll || !result.pitch || !result.yaw || !result.z) {
         state.SkipWithError(result.reason.c_str());
         return;

@@ -11,33 +11,12 @@
 #include "x2car/sim/radar_model.hpp"
 #include "x2car/sim/radar_scene.hpp"
 #include "x2car/sim/simulation.hpp"
+#include "x2car/sim/test_drives.hpp"
 
 namespace x2car {
 namespace {
 
-// The radar on the front bumper, as in radar_calibration_test.cpp.
-const Eigen::Vector3d kLeverArm{3.6, 0.3, 0.5};
-
-struct RadarDrive {
-  sim::Simulation simulation;
-  std::vector<sim::RadarScan> scans;
-};
-
-RadarDrive radar_drive(double duration_s, std::uint64_t seed, double yaw_deg,
-                       const sim::RadarOptions& radar) {
-  sim::SimulationOptions options;
-  options.scenario = sim::Scenario::kUrban;
-  options.duration_s = duration_s;
-  options.seed = seed;
-  RadarDrive drive;
-  drive.simulation = sim::simulate(options);
-  const sim::RadarScene scene = sim::generate_radar_scene(drive.simulation.states, {}, seed + 1000);
-  const Eigen::Isometry3d vehicle_from_radar = make_transform(
-      EulerAngles{.roll = 0.0, .pitch = 0.0, .yaw = rad_from_deg(yaw_deg)}, kLeverArm);
-  drive.scans =
-      sim::simulate_radar(drive.simulation.states, vehicle_from_radar, scene, radar, seed);
-  return drive;
-}
+using sim::testing::kRadarLeverArm;
 
 sim::RadarOptions layout(int index) {
   return index == 0 ? sim::RadarOptions::conti_ars408() : sim::RadarOptions::delphi_esr();
@@ -46,7 +25,7 @@ sim::RadarOptions layout(int index) {
 radar::RadarCalibrationOptions calibration_options(radar::RadarMethod method) {
   radar::RadarCalibrationOptions options;
   options.method = method;
-  options.lever_arm_in_vehicle = kLeverArm.head<2>();
+  options.lever_arm_in_vehicle = kRadarLeverArm.head<2>();
   return options;
 }
 
@@ -62,11 +41,13 @@ void BM_RadarAccuracy(benchmark::State& state) {
     for (const double truth_deg : {0.0, 10.0, 20.0, -7.0}) {
       double max_error = 0.0;
       for (std::uint64_t seed = 1; seed <= 5; ++seed) {
-        const RadarDrive drive = radar_drive(60.0, seed, truth_deg, radar);
-        const auto detections = sim::radar_measurements(drive.scans);
+        const sim::testing::RadarDrive& drive = sim::testing::urban_radar_drive(seed, 60.0);
+        const std::vector<sim::RadarScan> scans =
+            sim::testing::radar_scans(drive, truth_deg, radar, seed);
+        const auto detections = sim::radar_measurements(scans);
         std::int64_t total = 0;
         std::int64_t moving = 0;
-        for (const sim::RadarScan& scan : drive.scans) {
+        for (const sim::RadarScan& scan : scans) {
           for (const sim::SimulatedRadarDetection& detection : scan.detections) {
             ++total;
             moving += detection.is_moving ? 1 : 0;
@@ -100,14 +81,23 @@ BENCHMARK(BM_RadarAccuracy)
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 
-// 10 minutes of Conti radar, both methods (auto).
+// Issue 6: 10 minutes of Conti radar calibrate in <= 0.5 s wall, both methods (auto; was asserted
+// in a unit test). Counters: both methods succeeded (1) and the |error| of the yaw [deg].
 void BM_CalibrateRadarTenMinutes(benchmark::State& state) {
-  const RadarDrive drive = radar_drive(600.0, 1, 10.0, sim::RadarOptions::conti_ars408());
-  const auto detections = sim::radar_measurements(drive.scans);
+  const sim::testing::RadarDrive& drive = sim::testing::urban_radar_drive(1, 600.0);
+  const auto detections =
+      sim::testing::radar_detections(drive, 10.0, sim::RadarOptions::conti_ars408(), 1);
   for (auto _ : state) {
     const CalibrationResult result = radar::calibrate_radar(
         detections, drive.simulation.ins, calibration_options(radar::RadarMethod::kAuto));
-    benchmark::DoNotOptimize(result);
+    if (!result.ok()) {
+      state.SkipWithError(result.reason.c_str());
+      return;
+    }
+    state.counters["velocity_ok"] = result.diagnostics.at("velocity_ok");
+    state.counters["position_ok"] = result.diagnostics.at("position_ok");
+    state.counters["err_deg"] =
+        std::abs(deg_from_rad(angle_difference(*result.yaw, rad_from_deg(10.0))));
   }
   state.counters["detections"] = static_cast<double>(detections.size());
   state.counters["per_minute"] = benchmark::Counter(

@@ -2,22 +2,21 @@
 
 #include <stdexcept>
 
+#include "x2car/core/enum_names.hpp"
+
 namespace x2car {
 
+constexpr std::array<EnumName<CalibrationStatus>, 2> kCalibrationStatusNames{{
+    {CalibrationStatus::kOk, "ok"},
+    {CalibrationStatus::kInsufficientData, "insufficient_data"},
+}};
+
 const char* to_string(CalibrationStatus status) {
-  switch (status) {
-    case CalibrationStatus::kOk:
-      return "ok";
-    case CalibrationStatus::kInsufficientData:
-      return "insufficient_data";
-  }
-  return "unknown";
+  return enum_to_string(kCalibrationStatusNames, status);
 }
 
 CalibrationStatus calibration_status_from_string(const std::string& text) {
-  if (text == "ok") return CalibrationStatus::kOk;
-  if (text == "insufficient_data") return CalibrationStatus::kInsufficientData;
-  throw std::invalid_argument("unknown calibration status '" + text + "'");
+  return enum_from_string(kCalibrationStatusNames, text, "calibration status");
 }
 
 EulerAngles CalibrationResult::angles_or_zero() const {

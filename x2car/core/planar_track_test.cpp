@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -216,34 +215,18 @@ TEST(PlanarTrack, SamplesMatchStateAndRejectBadInput) {
   EXPECT_THROW(fit_planar_track(track.times, track.x, track.y, options), std::invalid_argument);
 }
 
-// 10 min at 100 Hz (60 000 samples, ~1 200 coefficients) with GCV: the brief is well under 0.1 s
-// in release; asserted only < 1 s because CI machines vary, and only in optimised builds.
-TEST(PlanarTrackTiming, FitsTenMinutesAt100HzQuickly) {
+// 10 min at 100 Hz (60 000 samples, ~1 200 coefficients) with GCV; its speed is measured in
+// bench/core_bench.cpp (BM_SmoothTrackWithGcv, BM_SampleAndSegmentTrack).
+TEST(PlanarTrack, FitsTenMinutesAt100Hz) {
   const auto weave = [](double t) {
     return TruePose{10.0 * t + 30.0 * std::sin(0.05 * t), 40.0 * std::sin(0.03 * t), 0.0, 0.0};
   };
   const NoisyTrack track = sample_track(weave, 600.0, 0.02, 44);
   ASSERT_GE(track.times.size(), 60000u);
-  const auto start = std::chrono::steady_clock::now();
   const PlanarTrack fitted = fit_planar_track(track.times, track.x, track.y, {});
-  const auto fitted_at = std::chrono::steady_clock::now();
   const PlanarTrackSamples samples = sample_planar_track(fitted, track.times);
-  const auto end = std::chrono::steady_clock::now();
-  const double fit_s = std::chrono::duration<double>(fitted_at - start).count();
-  const double sample_s = std::chrono::duration<double>(end - fitted_at).count();
-  std::printf(
-      "[          ] %zu samples: fit with GCV %.1f ms, sampling %.1f ms (lambda %.3g, "
-      "dof %.1f, residual std %.4f m)\n",
-      track.times.size(), 1e3 * fit_s, 1e3 * sample_s, fitted.x_spline().smoothing(),
-      fitted.x_spline().effective_dof(), fitted.x_spline().residual_std());
   EXPECT_NEAR(fitted.x_spline().residual_std(), 0.02, 0.004);
   EXPECT_EQ(samples.time.size(), track.times.size());
-#ifdef NDEBUG
-  EXPECT_LT(fit_s + sample_s, 1.0);
-#else
-  // Unoptimised and sanitizer builds run many times slower; their timing says nothing.
-  GTEST_SKIP() << "timing is asserted only in optimised builds";
-#endif
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "x2car/core/band_matrix.hpp"
+#include "x2car/core/options_check.hpp"
 
 namespace x2car {
 namespace {
@@ -28,11 +29,6 @@ constexpr double kMaxIntervals = 1e7;
 constexpr double kGcvGridStep = 0.5;    // coarse GCV grid step [decades of lambda]
 constexpr double kGcvTolerance = 0.01;  // golden-section stopping width [decades]
 constexpr double kGoldenRatio = 0.6180339887498949;
-
-template <typename... Args>
-[[noreturn]] void reject(fmt::format_string<Args...> format, Args&&... args) {
-  throw std::invalid_argument(fmt::format(format, std::forward<Args>(args)...));
-}
 
 // Values of the degree + 1 uniform B-splines that are nonzero on one knot interval, at local
 // position u in [0, 1]: Cox-de Boor recursion (Piegl & Tiller, The NURBS Book, A2.2). On uniform
@@ -53,34 +49,36 @@ void uniform_bspline_basis(double u, int degree, double* basis) {
 // Validates the input; returns the number of samples with positive weight.
 int check_samples(std::span<const double> times, std::span<const std::span<const double>> series,
                   std::span<const double> weights, int min_samples) {
-  if (series.empty()) reject("P-spline: no series to fit");
+  if (series.empty()) reject_argument("P-spline: no series to fit");
   for (std::size_t s = 0; s < series.size(); ++s) {
     if (series[s].size() != times.size()) {
-      reject("P-spline: series {} has {} values for {} times", s, series[s].size(), times.size());
+      reject_argument("P-spline: series {} has {} values for {} times", s, series[s].size(),
+                      times.size());
     }
   }
   if (!weights.empty() && weights.size() != times.size()) {
-    reject("P-spline: {} weights for {} times", weights.size(), times.size());
+    reject_argument("P-spline: {} weights for {} times", weights.size(), times.size());
   }
   int positive = 0;
   for (std::size_t k = 0; k < times.size(); ++k) {
-    if (!std::isfinite(times[k])) reject("P-spline: time {} is not finite", k);
+    if (!std::isfinite(times[k])) reject_argument("P-spline: time {} is not finite", k);
     if (k > 0 && !(times[k] > times[k - 1])) {
-      reject("P-spline: times must be strictly increasing (sample {}: {} after {})", k, times[k],
-             times[k - 1]);
+      reject_argument("P-spline: times must be strictly increasing (sample {}: {} after {})", k,
+                      times[k], times[k - 1]);
     }
     for (std::size_t s = 0; s < series.size(); ++s) {
       if (!std::isfinite(series[s][k]))
-        reject("P-spline: value {} of series {} is not finite", k, s);
+        reject_argument("P-spline: value {} of series {} is not finite", k, s);
     }
     const double weight = weights.empty() ? 1.0 : weights[k];
     if (!std::isfinite(weight) || weight < 0.0) {
-      reject("P-spline: weight {} is {} (must be finite and >= 0)", k, weight);
+      reject_argument("P-spline: weight {} is {} (must be finite and >= 0)", k, weight);
     }
     if (weight > 0.0) ++positive;
   }
   if (positive < min_samples) {
-    reject("P-spline: {} samples with positive weight, need at least {}", positive, min_samples);
+    reject_argument("P-spline: {} samples with positive weight, need at least {}", positive,
+                    min_samples);
   }
   return positive;
 }
@@ -88,27 +86,20 @@ int check_samples(std::span<const double> times, std::span<const std::span<const
 }  // namespace
 
 void PSplineOptions::Check() const {
-  if (degree < 3 || degree > kMaxDegree) reject("PSplineOptions: degree {} not in 3..5", degree);
-  if (penalty_order < 1 || penalty_order > degree) {
-    reject("PSplineOptions: penalty_order {} not in 1..degree ({})", penalty_order, degree);
-  }
-  if (!(knot_spacing_s > 0.0) || !std::isfinite(knot_spacing_s)) {
-    reject("PSplineOptions: knot_spacing_s {} must be > 0 [s]", knot_spacing_s);
-  }
-  if (smoothing && (!(*smoothing > 0.0) || !std::isfinite(*smoothing))) {
-    reject("PSplineOptions: smoothing {} must be finite and > 0", *smoothing);
-  }
-  if (!std::isfinite(gcv_log10_min) || !std::isfinite(gcv_log10_max) ||
-      !(gcv_log10_min < gcv_log10_max)) {
-    reject("PSplineOptions: GCV range [{}, {}] must be finite with gcv_log10_min < gcv_log10_max",
-           gcv_log10_min, gcv_log10_max);
-  }
+  const OptionsCheck check("PSplineOptions");
+  check.in_range("degree", degree, 3, kMaxDegree);
+  check.in_range("penalty_order", penalty_order, 1, degree);
+  check.positive("knot_spacing_s", knot_spacing_s);
+  if (smoothing) check.positive("smoothing", *smoothing);
+  check.ordered("gcv_log10_min", gcv_log10_min, "gcv_log10_max", gcv_log10_max);
+  check.that(gcv_log10_min < gcv_log10_max, "gcv_log10_min", "must be < gcv_log10_max",
+             gcv_log10_min);
 }
 
 double PSpline::value(double t) const { return derivative(t, 0); }
 
 double PSpline::derivative(double t, int order) const {
-  if (order < 0 || order > 2) reject("PSpline: derivative order {} not in 0..2", order);
+  if (order < 0 || order > 2) reject_argument("PSpline: derivative order {} not in 0..2", order);
   if (std::isnan(t)) return std::numeric_limits<double>::quiet_NaN();
   const double x = (std::clamp(t, start_time_, end_time_) - start_time_) / knot_spacing_;
   const int interval = std::clamp(int(std::floor(x)), 0, intervals_ - 1);
@@ -181,8 +172,8 @@ PSplineFitter::PSplineFitter(std::span<const double> times,
   const double span = times.back() - times.front();
   const double intervals = std::ceil(span / options_.knot_spacing_s * (1.0 - 1e-12));
   if (intervals > kMaxIntervals) {
-    reject("P-spline: time span {} s / knot spacing {} s needs {} knot intervals (max {})", span,
-           options_.knot_spacing_s, intervals, kMaxIntervals);
+    reject_argument("P-spline: time span {} s / knot spacing {} s needs {} knot intervals (max {})",
+                    span, options_.knot_spacing_s, intervals, kMaxIntervals);
   }
   intervals_ = std::max(1, int(intervals));
   knot_spacing_ = span / intervals_;
@@ -294,7 +285,8 @@ PSplineFitter::Evaluation PSplineFitter::minimise_gcv() const {
       best_x = low + i * step;
     }
   }
-  if (!std::isfinite(best.score)) reject("P-spline: no smoothing parameter gives a well-posed fit");
+  if (!std::isfinite(best.score))
+    reject_argument("P-spline: no smoothing parameter gives a well-posed fit");
   Evaluation refined = golden_section(std::max(low, best_x - step), std::min(high, best_x + step));
   return refined.score < best.score ? std::move(refined) : std::move(best);
 }
@@ -353,8 +345,9 @@ std::vector<PSpline> PSplineFitter::fit() const {
   if (options_.smoothing) {
     evaluation = evaluate(*options_.smoothing);
     if (evaluation.coefficients.empty()) {
-      reject("P-spline: the system is singular for smoothing {} (too few distinct samples?)",
-             *options_.smoothing);
+      reject_argument(
+          "P-spline: the system is singular for smoothing {} (too few distinct samples?)",
+          *options_.smoothing);
     }
   } else {
     evaluation = minimise_gcv();

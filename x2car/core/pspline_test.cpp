@@ -92,7 +92,7 @@ TEST(PSplineOptions, DefaultsAreValidAndBadFieldsAreNamed) {
   options = {};
   options.gcv_log10_min = 3.0;
   options.gcv_log10_max = 3.0;
-  expect_rejects(options, "GCV range");
+  expect_rejects(options, "gcv_log10_min");
 }
 
 // With lambda -> 0 the fit is least squares in the spline space, which contains the cubics:
@@ -330,7 +330,7 @@ TEST(PSpline, RejectsBadInput) {
                  "0 samples with positive weight");
   PSplineOptions options;
   options.degree = 7;
-  expect_message([&] { fit_pspline(times, values, options); }, "degree 7");
+  expect_message([&] { fit_pspline(times, values, options); }, "degree must be in [3, 5] (got 7)");
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "x2car/core/options_check.hpp"
 #include "x2car/core/rotation.hpp"
 
 namespace x2car {
@@ -60,8 +61,9 @@ double robust_sigma(std::span<const double> values) {
 }
 
 void OutlierRejectionOptions::Check() const {
-  if (!(k > 0.0)) throw std::invalid_argument("outlier rejection: k must be positive");
-  if (!(min_sigma >= 0.0)) throw std::invalid_argument("outlier rejection: min_sigma must be >= 0");
+  const OptionsCheck check("OutlierRejectionOptions");
+  check.positive("k", k);
+  check.non_negative("min_sigma", min_sigma);
 }
 
 std::vector<bool> mad_inlier_mask(std::span<const double> values,
@@ -109,7 +111,7 @@ double standard_error_of_weighted_mean(std::span<const double> estimates,
 }
 
 void BootstrapOptions::Check() const {
-  if (resamples < 2) throw std::invalid_argument("bootstrap: resamples must be at least 2");
+  OptionsCheck("BootstrapOptions").at_least("resamples", resamples, 2);
 }
 
 double bootstrap_standard_error(std::span<const double> values, std::span<const double> weights,

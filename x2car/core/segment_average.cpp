@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "x2car/core/options_check.hpp"
+
 namespace x2car {
 namespace {
 
@@ -97,10 +99,9 @@ double sample_standard_error(std::span<const double> angles,
 void SegmentAverageOptions::Check() const {
   outliers.Check();
   bootstrap.Check();
-  if (min_segments_for_spread < 2) {
-    throw std::invalid_argument("segment average: min_segments_for_spread must be at least 2");
-  }
-  if (!(block_s > 0.0)) throw std::invalid_argument("segment average: block_s must be positive");
+  const OptionsCheck check("SegmentAverageOptions");
+  check.at_least("min_segments_for_spread", min_segments_for_spread, 2);
+  check.positive("block_s", block_s);
 }
 
 SegmentAverage average_over_segments(std::span<const double> times, std::span<const double> angles,

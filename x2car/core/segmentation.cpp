@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "x2car/core/options_check.hpp"
+
 namespace x2car {
 namespace {
 
@@ -36,15 +38,12 @@ void keep_trimmed_run(std::span<const double> times, std::size_t begin, std::siz
 }  // namespace
 
 void SegmentationOptions::Check() const {
-  if (!(min_speed >= 0.0)) throw std::invalid_argument("segmentation: min_speed must be >= 0");
-  if (!(max_abs_curvature > 0.0)) {
-    throw std::invalid_argument("segmentation: max_abs_curvature must be positive");
-  }
-  if (!(min_duration_s >= 0.0)) {
-    throw std::invalid_argument("segmentation: min_duration_s must be >= 0");
-  }
-  if (!(max_gap_s > 0.0)) throw std::invalid_argument("segmentation: max_gap_s must be positive");
-  if (!(end_trim_s >= 0.0)) throw std::invalid_argument("segmentation: end_trim_s must be >= 0");
+  const OptionsCheck check("SegmentationOptions");
+  check.non_negative("min_speed", min_speed);
+  check.positive("max_abs_curvature", max_abs_curvature);
+  check.non_negative("min_duration_s", min_duration_s);
+  check.positive("max_gap_s", max_gap_s);
+  check.non_negative("end_trim_s", end_trim_s);
 }
 
 std::size_t Segmentation::sample_count() const {

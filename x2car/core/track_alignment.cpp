@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "x2car/core/options_check.hpp"
 #include "x2car/core/rotation.hpp"
 #include "x2car/core/track_heading.hpp"
 
@@ -255,18 +256,11 @@ void TrackAlignmentOptions::Check() const {
   track.Check();
   segments.Check();
   average.Check();
-  if (!(min_valid_duration_s >= 0.0)) {
-    throw std::invalid_argument("track alignment: min_valid_duration_s must be >= 0");
-  }
-  if (!(min_acceleration_spread > 0.0)) {
-    throw std::invalid_argument("track alignment: min_acceleration_spread must be positive");
-  }
-  if (!(reversing_test_min_speed >= 0.0)) {
-    throw std::invalid_argument("track alignment: reversing_test_min_speed must be >= 0");
-  }
-  if (!(split_gap_s > 0.0)) {
-    throw std::invalid_argument("track alignment: split_gap_s must be positive");
-  }
+  const OptionsCheck check("TrackAlignmentOptions");
+  check.non_negative("min_valid_duration_s", min_valid_duration_s);
+  check.positive("min_acceleration_spread", min_acceleration_spread);
+  check.non_negative("reversing_test_min_speed", reversing_test_min_speed);
+  check.positive("split_gap_s", split_gap_s);
 }
 
 TrackAlignment align_track(const SensorTrack& sensor_track, const TrackAlignmentOptions& options) {

@@ -5,28 +5,24 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "x2car/core/enum_names.hpp"
+#include "x2car/core/options_check.hpp"
+
 namespace x2car {
 
-const char* to_string(YawMethod method) {
-  switch (method) {
-    case YawMethod::kAuto:
-      return "auto";
-    case YawMethod::kTrackHeading:
-      return "track_heading";
-    case YawMethod::kVelocityDirection:
-      return "velocity_direction";
-  }
-  return "unknown";
-}
+constexpr std::array<EnumName<YawMethod>, 3> kYawMethodNames{{
+    {YawMethod::kAuto, "auto"},
+    {YawMethod::kTrackHeading, "track_heading"},
+    {YawMethod::kVelocityDirection, "velocity_direction"},
+}};
+
+const char* to_string(YawMethod method) { return enum_to_string(kYawMethodNames, method); }
 
 YawMethod yaw_method_from_string(const std::string& text) {
-  for (const auto method :
-       {YawMethod::kAuto, YawMethod::kTrackHeading, YawMethod::kVelocityDirection}) {
-    if (text == to_string(method)) return method;
-  }
-  throw std::invalid_argument("unknown yaw method '" + text +
-                              "' (auto, track_heading, velocity_direction)");
+  return enum_from_string(kYawMethodNames, text, "yaw method");
 }
+
+std::vector<std::string> yaw_method_names() { return enum_names(kYawMethodNames); }
 
 bool DisagreementTest::operator()(double a, double a_std, double b, double b_std) const {
   const double difference = std::abs(angle_difference(a, b));
@@ -34,10 +30,9 @@ bool DisagreementTest::operator()(double a, double a_std, double b, double b_std
 }
 
 void DisagreementTest::Check() const {
-  if (!(sigmas > 0.0)) throw std::invalid_argument("disagreement: sigmas must be positive");
-  if (!(min_difference >= 0.0)) {
-    throw std::invalid_argument("disagreement: min_difference must be >= 0");
-  }
+  const OptionsCheck check("DisagreementTest");
+  check.positive("sigmas", sigmas);
+  check.non_negative("min_difference", min_difference);
 }
 
 YawChoice choose_yaw(const TrackAlignment& alignment, YawMethod method,

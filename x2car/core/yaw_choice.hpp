@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "x2car/core/calibration_result.hpp"
 #include "x2car/core/rotation.hpp"
@@ -21,9 +22,11 @@ enum class YawMethod {
   kVelocityDirection,  // non-holonomic
 };
 
-// "auto", "track_heading", "velocity_direction"; parsing throws std::invalid_argument otherwise.
+// "auto", "track_heading", "velocity_direction" (one table in yaw_choice.cpp); parsing throws
+// std::invalid_argument listing the valid names.
 const char* to_string(YawMethod method);
 YawMethod yaw_method_from_string(const std::string& text);
+std::vector<std::string> yaw_method_names();  // for the CLI's choices
 
 // Two estimates of one angle disagree when they differ by more than `sigmas` combined standard
 // errors and by more than `min_difference`.

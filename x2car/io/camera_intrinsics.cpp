@@ -8,7 +8,9 @@
 #include <set>
 #include <stdexcept>
 
+#include "x2car/core/enum_names.hpp"
 #include "x2car/core/error.hpp"
+#include "x2car/core/options_check.hpp"
 #include "x2car/io/text_lines.hpp"
 #include "x2car/io/yaml_util.hpp"
 
@@ -71,22 +73,20 @@ std::vector<double> coefficients(const YAML::Node& root, const std::string& sour
 
 }  // namespace
 
+constexpr std::array<EnumName<DistortionModel>, 2> kDistortionModelNames{{
+    {DistortionModel::kNone, "none"},
+    {DistortionModel::kPlumbBob, "plumb_bob"},
+}};
+
 std::string to_string(DistortionModel model) {
-  switch (model) {
-    case DistortionModel::kNone:
-      return "none";
-    case DistortionModel::kPlumbBob:
-      return "plumb_bob";
-  }
-  return "unknown";
+  return enum_to_string(kDistortionModelNames, model);
 }
 
 DistortionModel distortion_model_from_string(std::string_view name) {
-  if (name == "none") return DistortionModel::kNone;
-  if (name == "plumb_bob") return DistortionModel::kPlumbBob;
-  throw std::invalid_argument(
-      fmt::format("unknown distortion model '{}'; the models are: none, plumb_bob", name));
+  return enum_from_string(kDistortionModelNames, name, "distortion model");
 }
+
+std::vector<std::string> distortion_model_names() { return enum_names(kDistortionModelNames); }
 
 std::size_t distortion_coefficient_count(DistortionModel model) {
   return model == DistortionModel::kPlumbBob ? 5 : 0;
@@ -99,31 +99,20 @@ Eigen::Matrix3d CameraIntrinsics::camera_matrix() const {
 }
 
 void CameraIntrinsics::Check() const {
-  if (width <= 0 || height <= 0) {
-    throw std::invalid_argument(fmt::format(
-        "camera intrinsics: width and height must be positive, got {}x{}", width, height));
-  }
-  if (!(fx > 0.0) || !(fy > 0.0) || !std::isfinite(fx) || !std::isfinite(fy)) {
-    throw std::invalid_argument(fmt::format(
-        "camera intrinsics: fx and fy must be positive and finite, got {} and {}", fx, fy));
-  }
+  const OptionsCheck check("CameraIntrinsics");
+  check.at_least("width", width, 1);
+  check.at_least("height", height, 1);
+  check.positive("fx", fx);
+  check.positive("fy", fy);
   // A principal point outside the image is a unit or axis mix-up, not a real camera.
-  if (!(cx >= 0.0 && cx <= width) || !(cy >= 0.0 && cy <= height)) {
-    throw std::invalid_argument(
-        fmt::format("camera intrinsics: the principal point ({}, {}) must lie in the {}x{} image",
-                    cx, cy, width, height));
-  }
+  check.in_range("cx", cx, 0.0, width);
+  check.in_range("cy", cy, 0.0, height);
   const std::size_t expected = distortion_coefficient_count(distortion_model);
-  if (distortion_coefficients.size() != expected) {
-    throw std::invalid_argument(fmt::format(
-        "camera intrinsics: distortion_coefficients: the {} model has {} coefficients, got {}",
-        to_string(distortion_model), expected, distortion_coefficients.size()));
-  }
-  for (const double c : distortion_coefficients) {
-    if (!std::isfinite(c)) {
-      throw std::invalid_argument("camera intrinsics: distortion_coefficients must be finite");
-    }
-  }
+  check.that(distortion_coefficients.size() == expected, "distortion_coefficients",
+             fmt::format("must hold the {} coefficients of the {} model", expected,
+                         to_string(distortion_model)),
+             static_cast<double>(distortion_coefficients.size()));
+  for (const double c : distortion_coefficients) check.finite("distortion_coefficients", c);
 }
 
 std::string format_camera_intrinsics(const CameraIntrinsics& intrinsics) {

@@ -31,6 +31,7 @@ enum class DistortionModel {
 std::string to_string(DistortionModel model);  // "none", "plumb_bob"
 // Inverse of to_string; throws std::invalid_argument listing the valid names.
 DistortionModel distortion_model_from_string(std::string_view name);
+std::vector<std::string> distortion_model_names();  // the valid names, in table order
 // How many coefficients the model has: 0 or 5.
 std::size_t distortion_coefficient_count(DistortionModel model);
 

@@ -93,7 +93,8 @@ TEST(CameraIntrinsics, BadFilesNameTheFileLineAndKey) {
     ADD_FAILURE() << "no InputError";
   } catch (const InputError& error) {
     EXPECT_THAT(error.what(), HasSubstr(kFile));
-    EXPECT_THAT(error.what(), HasSubstr("plumb_bob model has 5 coefficients, got 4"));
+    EXPECT_THAT(error.what(),
+                HasSubstr("must hold the 5 coefficients of the plumb_bob model (got 4)"));
   }
   expect_error("- 1\n- 2\n", 0, "");
 }

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "x2car/core/enum_names.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/core/rotation.hpp"
 #include "x2car/io/text_lines.hpp"
@@ -23,11 +24,7 @@ constexpr double kLastRowTolerance = 1e-9;
 constexpr double kMinQuaternionNorm = 1e-9;
 constexpr std::string_view kReferenceMarker = "Extrinsic:";
 
-struct FormatName {
-  ExtrinsicFormat format;
-  const char* name;
-};
-constexpr std::array<FormatName, 7> kFormatNames{{
+constexpr std::array<EnumName<ExtrinsicFormat>, 7> kExtrinsicFormatNames{{
     {ExtrinsicFormat::kXyzRpyDeg, "xyzrpy-deg"},
     {ExtrinsicFormat::kXyzRpyRad, "xyzrpy-rad"},
     {ExtrinsicFormat::kMatrix, "matrix"},
@@ -143,25 +140,14 @@ std::string unestimated_note(const CalibrationResult& result) {
 // ---- names and dispatch -----------------------------------------------------------------------
 
 const char* to_string(ExtrinsicFormat format) {
-  for (const FormatName& entry : kFormatNames) {
-    if (entry.format == format) return entry.name;
-  }
-  return "unknown";
+  return enum_to_string(kExtrinsicFormatNames, format);
 }
 
 ExtrinsicFormat extrinsic_format_from_string(std::string_view name) {
-  for (const FormatName& entry : kFormatNames) {
-    if (name == entry.name) return entry.format;
-  }
-  throw std::invalid_argument(fmt::format("unknown extrinsic format '{}'; expected one of {}", name,
-                                          join(extrinsic_format_names())));
+  return enum_from_string(kExtrinsicFormatNames, name, "extrinsic format");
 }
 
-std::vector<std::string> extrinsic_format_names() {
-  std::vector<std::string> names;
-  for (const FormatName& entry : kFormatNames) names.emplace_back(entry.name);
-  return names;
-}
+std::vector<std::string> extrinsic_format_names() { return enum_names(kExtrinsicFormatNames); }
 
 std::string format_extrinsic(const Extrinsic& extrinsic, ExtrinsicFormat format) {
   switch (format) {

@@ -9,7 +9,9 @@
 #include <cstdint>
 #include <stdexcept>
 
+#include "x2car/core/enum_names.hpp"
 #include "x2car/core/error.hpp"
+#include "x2car/core/options_check.hpp"
 #include "x2car/io/novatel_csv.hpp"
 #include "x2car/io/text_lines.hpp"
 
@@ -309,34 +311,42 @@ std::string format_row(const InsRecord& r) {
 
 }  // namespace
 
+constexpr std::array<EnumName<YawConvention>, 2> kYawConventionNames{{
+    {YawConvention::kEnu, "enu"},
+    {YawConvention::kAzimuth, "azimuth"},
+}};
+
+constexpr std::array<EnumName<AngleUnit>, 2> kAngleUnitNames{{
+    {AngleUnit::kRadians, "rad"},
+    {AngleUnit::kDegrees, "deg"},
+}};
+
 const char* to_string(YawConvention convention) {
-  return convention == YawConvention::kAzimuth ? "azimuth" : "enu";
+  return enum_to_string(kYawConventionNames, convention);
 }
 
 YawConvention yaw_convention_from_string(const std::string& text) {
-  if (text == "enu") return YawConvention::kEnu;
-  if (text == "azimuth") return YawConvention::kAzimuth;
-  throw std::invalid_argument(
-      fmt::format("unknown yaw convention '{}'; expected 'enu' or 'azimuth'", text));
+  return enum_from_string(kYawConventionNames, text, "yaw convention");
 }
 
-const char* to_string(AngleUnit unit) { return unit == AngleUnit::kDegrees ? "deg" : "rad"; }
+std::vector<std::string> yaw_convention_names() { return enum_names(kYawConventionNames); }
+
+const char* to_string(AngleUnit unit) { return enum_to_string(kAngleUnitNames, unit); }
 
 AngleUnit angle_unit_from_string(const std::string& text) {
-  if (text == "rad") return AngleUnit::kRadians;
-  if (text == "deg") return AngleUnit::kDegrees;
-  throw std::invalid_argument(
-      fmt::format("unknown angle unit '{}'; expected 'rad' or 'deg'", text));
+  return enum_from_string(kAngleUnitNames, text, "angle unit");
 }
 
+std::vector<std::string> angle_unit_names() { return enum_names(kAngleUnitNames); }
+
 void InsCsvOptions::Check() const {
-  if (yaw_convention && *yaw_convention != YawConvention::kEnu &&
-      *yaw_convention != YawConvention::kAzimuth) {
-    throw std::invalid_argument("InsCsvOptions: yaw_convention is not a YawConvention");
-  }
-  if (angle_unit != AngleUnit::kRadians && angle_unit != AngleUnit::kDegrees) {
-    throw std::invalid_argument("InsCsvOptions: angle_unit is not an AngleUnit");
-  }
+  // Enum values cast from a bad number (e.g. a binding's int) are named rather than misread.
+  const OptionsCheck check("InsCsvOptions");
+  check.that(!yaw_convention || *yaw_convention == YawConvention::kEnu ||
+                 *yaw_convention == YawConvention::kAzimuth,
+             "yaw_convention", "must be a YawConvention");
+  check.that(angle_unit == AngleUnit::kRadians || angle_unit == AngleUnit::kDegrees, "angle_unit",
+             "must be an AngleUnit");
 }
 
 std::string format_ins_csv(std::span<const InsRecord> records) {

@@ -53,11 +53,14 @@ enum class YawConvention {
 
 enum class AngleUnit { kRadians, kDegrees };
 
-// "enu", "azimuth" and "rad", "deg"; parsing throws std::invalid_argument listing the names.
+// "enu", "azimuth" and "rad", "deg" (one table each in ins_csv.cpp); parsing throws
+// std::invalid_argument listing the names; ..._names() are the CLI's choices.
 const char* to_string(YawConvention convention);
 YawConvention yaw_convention_from_string(const std::string& text);
+std::vector<std::string> yaw_convention_names();
 const char* to_string(AngleUnit unit);
 AngleUnit angle_unit_from_string(const std::string& text);
+std::vector<std::string> angle_unit_names();
 
 struct InsCsvOptions {
   // Convention of the heading column. Unset (default): the header names it — `yaw` is ENU,

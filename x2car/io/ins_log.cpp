@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "x2car/core/enum_names.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/io/novatel_csv.hpp"
 #include "x2car/io/oxts.hpp"
@@ -17,14 +18,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct FormatName {
-  InsFormat format;
-  const char* name;
-};
-constexpr std::array<FormatName, 4> kFormatNames{{{InsFormat::kAuto, "auto"},
-                                                  {InsFormat::kNovatel, "novatel"},
-                                                  {InsFormat::kCsv, "csv"},
-                                                  {InsFormat::kOxts, "oxts"}}};
+constexpr std::array<EnumName<InsFormat>, 4> kInsFormatNames{{
+    {InsFormat::kAuto, "auto"},
+    {InsFormat::kNovatel, "novatel"},
+    {InsFormat::kCsv, "csv"},
+    {InsFormat::kOxts, "oxts"},
+}};
 
 // novatel when the first line that is neither blank nor a '#' comment starts with the field
 // `gps_time` (as the novatel reader's own header check), else the generic CSV.
@@ -68,26 +67,13 @@ InsLog with_gap_notices(InsLog log, const std::string& file) {
 
 }  // namespace
 
-const char* to_string(InsFormat format) {
-  for (const FormatName& entry : kFormatNames) {
-    if (entry.format == format) return entry.name;
-  }
-  throw std::invalid_argument("to_string: not an InsFormat");
-}
+const char* to_string(InsFormat format) { return enum_to_string(kInsFormatNames, format); }
 
 InsFormat ins_format_from_string(const std::string& text) {
-  for (const FormatName& entry : kFormatNames) {
-    if (text == entry.name) return entry.format;
-  }
-  throw std::invalid_argument(fmt::format("unknown INS log format '{}'; expected one of: {}", text,
-                                          join(ins_format_names(), ", ")));
+  return enum_from_string(kInsFormatNames, text, "INS log format");
 }
 
-std::vector<std::string> ins_format_names() {
-  std::vector<std::string> names;
-  for (const FormatName& entry : kFormatNames) names.emplace_back(entry.name);
-  return names;
-}
+std::vector<std::string> ins_format_names() { return enum_names(kInsFormatNames); }
 
 InsFormat detect_ins_format(const fs::path& path) {
   check_exists(path);

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "x2car/core/error.hpp"
+#include "x2car/core/options_check.hpp"
 #include "x2car/core/rotation.hpp"
 #include "x2car/io/extrinsic_formats.hpp"
 #include "x2car/io/text_lines.hpp"
@@ -84,10 +85,9 @@ void write_tum_poses(const std::filesystem::path& path, std::span<const StampedP
 // ---- KITTI ----------------------------------------------------------------------------------
 
 void KittiPoseOptions::Check() const {
-  if (!(period > 0.0)) throw std::invalid_argument("KittiPoseOptions: period must be > 0");
-  if (!(rotation_tolerance > 0.0)) {
-    throw std::invalid_argument("KittiPoseOptions: rotation_tolerance must be > 0");
-  }
+  const OptionsCheck check("KittiPoseOptions");
+  check.positive("period", period);
+  check.positive("rotation_tolerance", rotation_tolerance);
 }
 
 std::vector<double> parse_kitti_times(std::string_view text, const std::string& source_name) {

@@ -9,6 +9,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "x2car/core/enum_names.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/core/rotation.hpp"
 #include "x2car/io/novatel_csv.hpp"
@@ -210,26 +211,19 @@ void check_radar_azimuth(double azimuth, std::string_view text, AngleUnit unit,
                        : fmt::format("{} deg is beyond +-180 deg", text));
 }
 
-std::string to_string(RadarLayout layout) {
-  switch (layout) {
-    case RadarLayout::kConti:
-      return "conti";
-    case RadarLayout::kDelphi:
-      return "delphi";
-    case RadarLayout::kGeneric:
-      return "generic";
-  }
-  throw std::invalid_argument("unknown radar layout");
-}
+constexpr std::array<EnumName<RadarLayout>, 3> kRadarLayoutNames{{
+    {RadarLayout::kConti, "conti"},
+    {RadarLayout::kDelphi, "delphi"},
+    {RadarLayout::kGeneric, "generic"},
+}};
+
+std::string to_string(RadarLayout layout) { return enum_to_string(kRadarLayoutNames, layout); }
 
 RadarLayout radar_layout_from_string(std::string_view name) {
-  for (const RadarLayout layout :
-       {RadarLayout::kConti, RadarLayout::kDelphi, RadarLayout::kGeneric}) {
-    if (name == to_string(layout)) return layout;
-  }
-  throw std::invalid_argument(
-      fmt::format("unknown radar layout '{}'; the layouts are: conti, delphi, generic", name));
+  return enum_from_string(kRadarLayoutNames, name, "radar layout");
 }
+
+std::vector<std::string> radar_layout_names() { return enum_names(kRadarLayoutNames); }
 
 std::string radar_scan_file_name(std::int64_t unix_time_ns) {
   const std::int64_t ms_ns = floor_div(unix_time_ns, kNsPerMs) * kNsPerMs;

@@ -72,6 +72,7 @@ struct RadarLog {
 std::string to_string(RadarLayout layout);  // "conti", "delphi", "generic"
 // Inverse of to_string; throws std::invalid_argument listing the valid names.
 RadarLayout radar_layout_from_string(std::string_view name);
+std::vector<std::string> radar_layout_names();  // the CLI's choices, in table order
 
 // ---- scan folders (Conti and Delphi) ------------------------------------------------------------
 

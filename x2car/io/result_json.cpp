@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
@@ -288,12 +289,6 @@ Json parse_json(std::string_view text, const std::string& source_name) {
   }
 }
 
-// A single result has a string "status"; in the keyed form every member is an object.
-bool is_single_result(const Json& json) {
-  const Json* status = find_member(json, "status");
-  return status != nullptr && status->is_string();
-}
-
 }  // namespace
 
 Json result_to_json(const CalibrationResult& result, const ResultJsonOptions& options) {
@@ -337,62 +332,6 @@ void write_result_json(const std::filesystem::path& path, const CalibrationResul
 
 CalibrationResult read_result_json(const std::filesystem::path& path) {
   return parse_result_json(read_text_file(path), path.string());
-}
-
-Json results_to_json(std::span<const CalibrationResult> results, const ResultJsonOptions& options) {
-  Json json = Json::object();
-  for (const CalibrationResult& result : results) {
-    if (result.sensor.empty()) {
-      throw std::invalid_argument("results_to_json: a result without a sensor name");
-    }
-    if (json.contains(result.sensor)) {
-      throw std::invalid_argument(
-          fmt::format("results_to_json: two results for sensor '{}'", result.sensor));
-    }
-    json[result.sensor] = result_to_json(result, options);
-  }
-  return json;
-}
-
-std::map<std::string, CalibrationResult> results_from_json(const Json& json,
-                                                           const std::string& source_name) {
-  const JsonContext top{source_name, {}};
-  if (!json.is_object()) type_error(top, "", "an object", json);
-  std::map<std::string, CalibrationResult> results;
-  if (is_single_result(json)) {
-    CalibrationResult result = read_result(json, top);
-    results.emplace(result.sensor, std::move(result));
-    return results;
-  }
-  for (const auto& item : json.items()) {
-    CalibrationResult result = read_result(item.value(), top.nested(item.key()));
-    if (result.sensor != item.key()) {
-      throw InputError(source_name, 0, item.key() + ".sensor",
-                       fmt::format("sensor '{}' does not match its key", result.sensor));
-    }
-    results.emplace(item.key(), std::move(result));
-  }
-  return results;
-}
-
-std::string format_results_json(std::span<const CalibrationResult> results,
-                                const ResultJsonOptions& options) {
-  return dump(results_to_json(results, options));
-}
-
-std::map<std::string, CalibrationResult> parse_results_json(std::string_view text,
-                                                            const std::string& source_name) {
-  return results_from_json(parse_json(text, source_name), source_name);
-}
-
-void write_results_json(const std::filesystem::path& path,
-                        std::span<const CalibrationResult> results,
-                        const ResultJsonOptions& options) {
-  write_text_file(path, format_results_json(results, options));
-}
-
-std::map<std::string, CalibrationResult> read_results_json(const std::filesystem::path& path) {
-  return parse_results_json(read_text_file(path), path.string());
 }
 
 }  // namespace x2car::io

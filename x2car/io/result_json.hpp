@@ -11,9 +11,7 @@
 #pragma once
 
 #include <filesystem>
-#include <map>
 #include <nlohmann/json_fwd.hpp>
-#include <span>
 #include <string>
 #include <string_view>
 
@@ -46,24 +44,5 @@ CalibrationResult parse_result_json(std::string_view text, const std::string& so
 void write_result_json(const std::filesystem::path& path, const CalibrationResult& result,
                        const ResultJsonOptions& options = {});
 CalibrationResult read_result_json(const std::filesystem::path& path);
-
-// ---- several results: one object keyed by sensor name (`x2car calibrate all`) ---------------
-
-// Throws std::invalid_argument when a sensor name is empty or appears twice.
-Json results_to_json(std::span<const CalibrationResult> results,
-                     const ResultJsonOptions& options = {});
-// Accepts the keyed object, or a single result object (then one entry). A key must match the
-// "sensor" inside its object.
-std::map<std::string, CalibrationResult> results_from_json(const Json& json,
-                                                           const std::string& source_name);
-
-std::string format_results_json(std::span<const CalibrationResult> results,
-                                const ResultJsonOptions& options = {});
-std::map<std::string, CalibrationResult> parse_results_json(std::string_view text,
-                                                            const std::string& source_name);
-void write_results_json(const std::filesystem::path& path,
-                        std::span<const CalibrationResult> results,
-                        const ResultJsonOptions& options = {});
-std::map<std::string, CalibrationResult> read_results_json(const std::filesystem::path& path);
 
 }  // namespace x2car::io

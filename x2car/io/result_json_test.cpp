@@ -216,39 +216,5 @@ TEST(ResultJson, FileRoundTrip) {
   std::filesystem::remove(path);
 }
 
-TEST(ResultsJson, SeveralResultsKeyedBySensor) {
-  const std::vector<CalibrationResult> results{lidar_result(), ins_result()};
-  const Json json = results_to_json(results);
-  EXPECT_TRUE(json.at("lidar").at("roll_deg").is_number());
-  EXPECT_TRUE(json.at("ins").at("roll_deg").is_null());
-  const auto read = parse_results_json(format_results_json(results), "all.json");
-  ASSERT_EQ(read.size(), 2u);
-  expect_same_result(read.at("lidar"), lidar_result());
-  expect_same_result(read.at("ins"), ins_result());
-}
-
-TEST(ResultsJson, SingleResultReadsAsOneEntry) {
-  const auto read = parse_results_json(format_result_json(ins_result()), "ins.json");
-  ASSERT_EQ(read.size(), 1u);
-  expect_same_result(read.at("ins"), ins_result());
-}
-
-TEST(ResultsJson, DuplicatesAndMismatchedKeysAreRejected) {
-  const std::vector<CalibrationResult> twice{ins_result(), ins_result()};
-  EXPECT_THROW(results_to_json(twice), std::invalid_argument);
-  try {
-    parse_results_json(R"({"lidar": {"sensor": "radar", "status": "ok"}})", "all.json");
-    FAIL() << "no exception";
-  } catch (const InputError& error) {
-    EXPECT_EQ(error.field(), "lidar.sensor");
-  }
-  try {
-    parse_results_json(R"({"lidar": {"sensor": "lidar", "status": "ok", "z_m": []}})", "a.json");
-    FAIL() << "no exception";
-  } catch (const InputError& error) {
-    EXPECT_EQ(error.field(), "lidar.z_m");
-  }
-}
-
 }  // namespace
 }  // namespace x2car::io

@@ -9,6 +9,8 @@
 #include <random>
 #include <stdexcept>
 
+#include "x2car/core/options_check.hpp"
+
 namespace x2car::lidar {
 namespace {
 
@@ -210,36 +212,32 @@ std::optional<Refit> refit_plane(const std::vector<Eigen::Vector3f>& filtered, c
   return refit;
 }
 
-void check(bool ok, const char* what) {
-  if (!ok) throw std::invalid_argument(std::string("ground options: ") + what);
-}
-
 }  // namespace
 
 void GroundOptions::Check() const {
-  check(min_range_m >= 0.0 && max_range_m > min_range_m && std::isfinite(max_range_m),
-        "need 0 <= min_range_m < max_range_m < inf");
-  check(std::isfinite(max_lateral_m), "max_lateral_m must be finite (<= 0 turns it off)");
-  check(min_height_m >= 0.0 && max_height_m > min_height_m && std::isfinite(max_height_m),
-        "need 0 <= min_height_m < max_height_m < inf");
-  check(max_tilt > 0.0 && max_tilt < kPi / 2.0, "max_tilt must be in (0, pi/2)");
-  check(max_candidates >= 3, "max_candidates must be >= 3");
-  check(ransac_starts >= 1 && ransac_iterations >= 1,
-        "ransac_starts and ransac_iterations must be >= 1");
-  check(ransac_inlier_m > 0.0 && std::isfinite(ransac_inlier_m), "ransac_inlier_m must be > 0");
-  check(refine_steps >= 0, "refine_steps must be >= 0");
-  check(refine_angle >= 0.0 && refine_angle < kPi / 4.0, "refine_angle must be in [0, pi/4)");
-  check(refine_offset_m >= 0.0 && std::isfinite(refine_offset_m), "refine_offset_m must be >= 0");
-  check(refine_final_fraction > 0.0 && refine_final_fraction <= 1.0,
-        "refine_final_fraction must be in (0, 1]");
-  check(refit_inlier_m > 0.0 && std::isfinite(refit_inlier_m), "refit_inlier_m must be > 0");
-  check(min_refit_inlier_m > 0.0 && min_refit_inlier_m <= refit_inlier_m,
-        "min_refit_inlier_m must be in (0, refit_inlier_m]");
-  check(refit_rms_factor > 0.0 && std::isfinite(refit_rms_factor), "refit_rms_factor must be > 0");
-  check(refit_passes >= 1, "refit_passes must be >= 1");
-  check(min_inliers >= 3, "min_inliers must be >= 3");
-  check(min_inlier_fraction >= 0.0 && min_inlier_fraction <= 1.0,
-        "min_inlier_fraction must be in [0, 1]");
+  const OptionsCheck check("GroundOptions");
+  check.non_negative("min_range_m", min_range_m);
+  check.positive("max_range_m", max_range_m);
+  check.that(min_range_m < max_range_m, "min_range_m", "must be < max_range_m", min_range_m);
+  check.finite("max_lateral_m", max_lateral_m);  // <= 0 turns the limit off
+  check.non_negative("min_height_m", min_height_m);
+  check.positive("max_height_m", max_height_m);
+  check.that(min_height_m < max_height_m, "min_height_m", "must be < max_height_m", min_height_m);
+  check.in_range("max_tilt", max_tilt, 0.0, kPi / 2.0, Bounds::kOpen);
+  check.at_least("max_candidates", static_cast<double>(max_candidates), 3);
+  check.at_least("ransac_starts", ransac_starts, 1);
+  check.at_least("ransac_iterations", ransac_iterations, 1);
+  check.positive("ransac_inlier_m", ransac_inlier_m);
+  check.at_least("refine_steps", refine_steps, 0);
+  check.in_range("refine_angle", refine_angle, 0.0, kPi / 4.0, Bounds::kOpenMax);
+  check.non_negative("refine_offset_m", refine_offset_m);
+  check.in_range("refine_final_fraction", refine_final_fraction, 0.0, 1.0, Bounds::kOpenMin);
+  check.positive("refit_inlier_m", refit_inlier_m);
+  check.in_range("min_refit_inlier_m", min_refit_inlier_m, 0.0, refit_inlier_m, Bounds::kOpenMin);
+  check.positive("refit_rms_factor", refit_rms_factor);
+  check.at_least("refit_passes", refit_passes, 1);
+  check.at_least("min_inliers", static_cast<double>(min_inliers), 3);
+  check.probability("min_inlier_fraction", min_inlier_fraction);
 }
 
 GroundFit fit_ground(const io::PointCloud& sweep, const GroundOptions& options,

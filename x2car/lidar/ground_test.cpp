@@ -10,6 +10,7 @@
 #include "x2car/core/test_matchers.hpp"
 #include "x2car/sim/lidar_model.hpp"
 #include "x2car/sim/simulation.hpp"
+#include "x2car/sim/test_drives.hpp"
 
 namespace x2car::lidar {
 namespace {
@@ -217,11 +218,8 @@ TEST(GroundOptions, CheckNamesTheBadField) {
 // A flat, level straight road with the full urban scenery (buildings, parked and moving cars),
 // the body held level on its suspension so that the road plane is V's xy plane at every instant.
 TEST(FitGround, OnASimulatedFlatDriveReportsTheMountingRollPitchAndHeight) {
-  sim::SimulationOptions options;
-  options.scenario = sim::Scenario::kStraight;
-  options.duration_s = 2.0;
-  options.seed = 3;
-  options.sensors = {"lidar"};
+  sim::SimulationOptions options =
+      sim::testing::simulated_lidar_drive(sim::Scenario::kStraight, 2.0, 32, 3);
   options.route.vertical.max_grade = 0.0;
   options.route.vertical.max_crossfall = 0.0;
   options.motion.roll_gain = 0.0;
@@ -230,7 +228,6 @@ TEST(FitGround, OnASimulatedFlatDriveReportsTheMountingRollPitchAndHeight) {
   mount.translation = {1.4, -0.1, 1.85};
   mount.rotation = {rad_from_deg(1.2), rad_from_deg(2.4), rad_from_deg(-3.0)};
   options.mountings["lidar"] = mount;
-  options.lidar.beams = 32;
   const sim::Simulation simulation = sim::simulate(options);
   const sim::WorldScene scene(simulation.world);
   const sim::LidarSimulator lidar(scene, simulation.states, mount.vehicle_from_sensor(),

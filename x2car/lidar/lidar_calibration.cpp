@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "x2car/core/error.hpp"
+#include "x2car/core/options_check.hpp"
 #include "x2car/core/robust_stats.hpp"
 #include "x2car/core/track_alignment_report.hpp"
 
@@ -409,16 +410,13 @@ void LidarCalibrationOptions::Check() const {
   alignment.Check();
   ground_outliers.Check();
   disagreement.Check();
-  const auto require = [](bool condition, const char* message) {
-    if (!condition) throw std::invalid_argument(std::string("lidar calibration: ") + message);
-  };
-  require(ground_every >= 1, "ground_every must be at least 1");
-  require(max_ground_turn_rate > 0.0, "max_ground_turn_rate must be positive");
-  require(block_s > 0.0, "block_s must be positive");
-  require(min_sweeps >= 3, "min_sweeps must be at least 3");
-  require(min_ground_frames >= 2, "min_ground_frames must be at least 2");
-  require(max_failed_registration_share >= 0.0 && max_failed_registration_share <= 1.0,
-          "max_failed_registration_share must be in [0, 1]");
+  const OptionsCheck check("LidarCalibrationOptions");
+  check.at_least("ground_every", ground_every, 1);
+  check.positive("max_ground_turn_rate", max_ground_turn_rate);
+  check.positive("block_s", block_s);
+  check.at_least("min_sweeps", static_cast<double>(min_sweeps), 3);
+  check.at_least("min_ground_frames", static_cast<double>(min_ground_frames), 2);
+  check.probability("max_failed_registration_share", max_failed_registration_share);
 }
 
 SweepSource sweep_source_from(const SweepFolder& folder) {

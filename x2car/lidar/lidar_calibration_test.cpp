@@ -14,7 +14,7 @@
 #include "x2car/core/error.hpp"
 #include "x2car/core/test_matchers.hpp"
 #include "x2car/io/result_json.hpp"
-#include "x2car/lidar/test_drives.hpp"
+#include "x2car/lidar/lidar_test_support.hpp"
 
 namespace x2car::lidar {
 namespace {
@@ -55,7 +55,7 @@ TEST(LidarCalibration, RecoversTheMountingOnAnUrbanDrive) {
   // 40 s of urban driving holds about 13 s of straight runs; the default asks for 20 s.
   LidarCalibrationOptions options;
   options.alignment.min_valid_duration_s = 10.0;
-  const CalibrationResult result = calibrate_lidar(drive.source(), options);
+  const CalibrationResult result = calibrate_lidar(testing::sweep_source(drive), options);
   expect_mounting(result, drive.truth(), 0.1, 0.02);
   EXPECT_EQ(result.sensor, "lidar");
   EXPECT_GT(result.support.at("ground_frames"), 50);
@@ -68,7 +68,7 @@ TEST(LidarCalibration, NegativeAnglesKeepTheirSign) {
   const SimulatedLidarDrive drive =
       lidar_drive(sim::Scenario::kStraight, 30.0, 5, 32,
                   {rad_from_deg(-2.0), rad_from_deg(-1.0), rad_from_deg(-4.0)}, 1.6);
-  const CalibrationResult result = calibrate_lidar(drive.source());
+  const CalibrationResult result = calibrate_lidar(testing::sweep_source(drive));
   expect_mounting(result, drive.truth(), 0.1, 0.02);
 }
 

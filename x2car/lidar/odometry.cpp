@@ -8,57 +8,46 @@
 #include <limits>
 #include <stdexcept>
 
+#include "x2car/core/enum_names.hpp"
+#include "x2car/core/options_check.hpp"
 #include "x2car/lidar/registration.hpp"
 
 namespace x2car::lidar {
-namespace {
-
-void require(bool ok, const char* field, const char* what) {
-  if (!ok) throw std::invalid_argument(std::string("OdometryOptions::") + field + " " + what);
-}
-
-}  // namespace
 
 void OdometryOptions::Check() const {
-  require(max_range_m > 0.0 && std::isfinite(max_range_m), "max_range_m", "must be > 0");
-  require(min_range_m >= 0.0 && min_range_m < max_range_m, "min_range_m",
-          "must be in [0, max_range_m)");
-  require(voxel_size_m > 0.0 && std::isfinite(voxel_size_m), "voxel_size_m", "must be > 0");
-  require(max_points_per_voxel >= 1 && max_points_per_voxel <= 65535, "max_points_per_voxel",
-          "must be in [1, 65535]");
-  require(initial_threshold_m > 0.0, "initial_threshold_m", "must be > 0");
-  require(min_motion_m >= 0.0, "min_motion_m", "must be >= 0");
-  require(kernel_scale_factor > 0.0, "kernel_scale_factor", "must be > 0");
-  require(point_to_point_weight >= 0.0, "point_to_point_weight", "must be >= 0");
-  require(max_iterations >= 1, "max_iterations", "must be >= 1");
-  require(convergence > 0.0, "convergence", "must be > 0");
-  require(max_sweep_span_s > 0.0, "max_sweep_span_s", "must be > 0");
-  require(max_final_update >= convergence, "max_final_update", "must be >= convergence");
-  require(min_points >= 6, "min_points", "must be >= 6");
-  require(min_translation_constraint >= 0.0 && min_translation_constraint <= 1.0 / 3.0,
-          "min_translation_constraint", "must be in [0, 1/3]");
-  require(min_rotation_constraint >= 0.0 && min_rotation_constraint <= 1.0 / 3.0,
-          "min_rotation_constraint", "must be in [0, 1/3]");
-  require(max_speed_mps > 0.0, "max_speed_mps", "must be > 0");
-  require(max_angular_rate > 0.0, "max_angular_rate", "must be > 0");
+  const OptionsCheck check("OdometryOptions");
+  check.positive("max_range_m", max_range_m);
+  check.in_range("min_range_m", min_range_m, 0.0, max_range_m, Bounds::kOpenMax);
+  check.positive("voxel_size_m", voxel_size_m);
+  check.in_range("max_points_per_voxel", max_points_per_voxel, 1, 65535);
+  check.positive("initial_threshold_m", initial_threshold_m);
+  check.non_negative("min_motion_m", min_motion_m);
+  check.positive("kernel_scale_factor", kernel_scale_factor);
+  check.non_negative("point_to_point_weight", point_to_point_weight);
+  check.at_least("max_iterations", max_iterations, 1);
+  check.positive("convergence", convergence);
+  check.positive("max_sweep_span_s", max_sweep_span_s);
+  check.at_least("max_final_update", max_final_update, convergence);
+  check.at_least("min_points", static_cast<double>(min_points), 6);
+  check.in_range("min_translation_constraint", min_translation_constraint, 0.0, 1.0 / 3.0);
+  check.in_range("min_rotation_constraint", min_rotation_constraint, 0.0, 1.0 / 3.0);
+  check.at_least("degeneracy_samples", static_cast<double>(degeneracy_samples), 1);
+  check.positive("max_speed_mps", max_speed_mps);
+  check.positive("max_angular_rate", max_angular_rate);
+  planarity.Check();
 }
 
+constexpr std::array<EnumName<RegistrationStatus>, 6> kRegistrationStatusNames{{
+    {RegistrationStatus::kFirstSweep, "first_sweep"},
+    {RegistrationStatus::kOk, "ok"},
+    {RegistrationStatus::kTooFewPoints, "too_few_points"},
+    {RegistrationStatus::kNotConverged, "not_converged"},
+    {RegistrationStatus::kDegenerate, "degenerate"},
+    {RegistrationStatus::kImplausibleMotion, "implausible_motion"},
+}};
+
 std::string to_string(RegistrationStatus status) {
-  switch (status) {
-    case RegistrationStatus::kFirstSweep:
-      return "first_sweep";
-    case RegistrationStatus::kOk:
-      return "ok";
-    case RegistrationStatus::kTooFewPoints:
-      return "too_few_points";
-    case RegistrationStatus::kNotConverged:
-      return "not_converged";
-    case RegistrationStatus::kDegenerate:
-      return "degenerate";
-    case RegistrationStatus::kImplausibleMotion:
-      return "implausible_motion";
-  }
-  return "unknown";
+  return enum_to_string(kRegistrationStatusNames, status);
 }
 
 LidarOdometry::LidarOdometry(const OdometryOptions& options)
@@ -143,7 +132,7 @@ OdometryStep LidarOdometry::register_sweep(const io::PointCloud& sweep, double s
   const float voxel_size = static_cast<float>(options_.voxel_size_m);
   coarse_downsampler_.downsample(frame_, 1.5f * voxel_size, source_, &source_of_frame_);
   step.source_points = source_.size();
-  planar_normals(frame_, source_of_frame_, source_, PlanarityOptions{}, moments_, source_normals_);
+  planar_normals(frame_, source_of_frame_, source_, options_.planarity, moments_, source_normals_);
 
   const Eigen::Isometry3d prediction = predict(step.time);
   step.world_from_lidar = prediction;

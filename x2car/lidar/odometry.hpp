@@ -77,6 +77,8 @@ struct OdometryOptions {
   double min_translation_constraint = 0.01;
   double min_rotation_constraint = 0.01;
   std::size_t degeneracy_samples = 1000;
+  // Which registered points count as on a planar patch (point-to-plane terms; planar_normals.hpp).
+  PlanarityOptions planarity;
   // Motions no car makes between two sweeps: the registration failed [m/s], [rad/s].
   double max_speed_mps = 70.0;
   double max_angular_rate = 3.0;

@@ -4,6 +4,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "x2car/core/options_check.hpp"
 #include "x2car/core/rotation.hpp"
 
 namespace x2car::lidar {
@@ -31,11 +32,10 @@ std::size_t segment_end(const std::vector<double>& distances, std::size_t first,
 }  // namespace
 
 void DriftOptions::Check() const {
-  if (lengths_m.empty()) throw std::invalid_argument("DriftOptions::lengths_m must not be empty");
-  for (const double length : lengths_m) {
-    if (!(length > 0.0)) throw std::invalid_argument("DriftOptions::lengths_m must be > 0");
-  }
-  if (step == 0) throw std::invalid_argument("DriftOptions::step must be >= 1");
+  const OptionsCheck check("DriftOptions");
+  check.that(!lengths_m.empty(), "lengths_m", "must not be empty");
+  for (const double length : lengths_m) check.positive("lengths_m", length);
+  check.at_least("step", static_cast<double>(step), 1);
 }
 
 Drift relative_drift(std::span<const Eigen::Isometry3d> estimate,

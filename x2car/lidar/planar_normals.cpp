@@ -2,7 +2,17 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "x2car/core/options_check.hpp"
+
 namespace x2car::lidar {
+
+void PlanarityOptions::Check() const {
+  const OptionsCheck check("PlanarityOptions");
+  // A covariance of fewer than 3 points cannot show a plane.
+  check.at_least("min_points", static_cast<double>(min_points), 3);
+  check.in_range("max_flatness", max_flatness, 0.0, 1.0);
+  check.non_negative("min_extent_m", min_extent_m);
+}
 
 void planar_normals(std::span<const Eigen::Vector3f> fine,
                     std::span<const std::uint32_t> voxel_of_fine,

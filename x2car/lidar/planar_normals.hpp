@@ -16,6 +16,8 @@ struct PlanarityOptions {
   std::size_t min_points = 4;  // fine points in the voxel
   float max_flatness = 0.1f;   // smallest / middle eigenvalue of the covariance
   float min_extent_m = 0.1f;   // standard deviation along the middle direction [m]
+
+  void Check() const;  // throws std::invalid_argument naming the offending field
 };
 
 // Moments of the fine points per registered point; kept between sweeps to avoid allocating.

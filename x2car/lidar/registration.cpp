@@ -9,6 +9,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "x2car/core/options_check.hpp"
 #include "x2car/lidar/se3.hpp"
 
 namespace x2car::lidar {
@@ -108,10 +109,20 @@ void build_linear_system(const NormalEquationSums& s, Matrix6d& h, Vector6d& g) 
 
 }  // namespace
 
+void IcpSettings::Check() const {
+  const OptionsCheck check("IcpSettings");
+  check.positive("max_correspondence_distance", max_correspondence_distance);
+  check.positive("kernel_scale", kernel_scale);
+  check.non_negative("point_to_point_weight", point_to_point_weight);
+  check.at_least("max_iterations", max_iterations, 1);
+  check.positive("convergence", convergence);
+}
+
 IcpResult align_to_map(std::span<const Eigen::Vector3f> source,
                        std::span<const Eigen::Vector3f> source_normals, const VoxelHashMap& map,
                        const Eigen::Isometry3d& initial_guess, const IcpSettings& settings,
                        std::span<VoxelHashMap::Neighbourhood> neighbourhoods) {
+  settings.Check();
   if (neighbourhoods.size() != source.size()) {
     throw std::invalid_argument("align_to_map: one neighbourhood per source point");
   }

@@ -30,6 +30,8 @@ struct IcpSettings {
   double point_to_point_weight = 0.1;
   int max_iterations = 100;
   double convergence = 1e-4;  // stop when the update's norm (metres and radians) is below this
+
+  void Check() const;  // throws std::invalid_argument naming the offending field
 };
 
 struct IcpResult {
@@ -46,7 +48,8 @@ struct IcpResult {
 // `source_normals` is empty or holds a unit normal (sensor frame) per source point where its
 // neighbourhood is planar and zero elsewhere. Stops early, unconverged, when an iteration finds
 // fewer than 6 correspondences or a singular system. `neighbourhoods` (one per source point, reset
-// by the caller) is scratch space that saves the map lookups of later iterations.
+// by the caller) is scratch space that saves the map lookups of later iterations. Throws
+// std::invalid_argument on bad settings (IcpSettings::Check).
 IcpResult align_to_map(std::span<const Eigen::Vector3f> source,
                        std::span<const Eigen::Vector3f> source_normals, const VoxelHashMap& map,
                        const Eigen::Isometry3d& initial_guess, const IcpSettings& settings,

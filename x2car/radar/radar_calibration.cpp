@@ -9,6 +9,8 @@
 #include <map>
 #include <stdexcept>
 
+#include "x2car/core/enum_names.hpp"
+#include "x2car/core/options_check.hpp"
 #include "x2car/core/robust_stats.hpp"
 #include "x2car/radar/radar_auto.hpp"
 #include "x2car/radar/radar_ego_motion.hpp"
@@ -17,10 +19,6 @@
 
 namespace x2car::radar {
 namespace {
-
-void require(bool condition, const char* field) {
-  if (!condition) throw std::invalid_argument(fmt::format("radar calibration options: {}", field));
-}
 
 struct GatedSamples {
   std::vector<RadarSample> samples;
@@ -66,52 +64,46 @@ void add_gate_rejections(CalibrationResult& result, const GatedSamples& gated) {
 
 }  // namespace
 
-const char* to_string(RadarMethod method) {
-  switch (method) {
-    case RadarMethod::kAuto:
-      return "auto";
-    case RadarMethod::kVelocity:
-      return "velocity";
-    case RadarMethod::kPosition:
-      return "position";
-  }
-  return "auto";
-}
+constexpr std::array<EnumName<RadarMethod>, 3> kRadarMethodNames{{
+    {RadarMethod::kAuto, "auto"},
+    {RadarMethod::kVelocity, "velocity"},
+    {RadarMethod::kPosition, "position"},
+}};
+
+const char* to_string(RadarMethod method) { return enum_to_string(kRadarMethodNames, method); }
 
 RadarMethod radar_method_from_string(const std::string& text) {
-  for (const RadarMethod method :
-       {RadarMethod::kAuto, RadarMethod::kVelocity, RadarMethod::kPosition}) {
-    if (text == to_string(method)) return method;
-  }
-  throw std::invalid_argument(
-      fmt::format("unknown radar method '{}' (expected auto, velocity or position)", text));
+  return enum_from_string(kRadarMethodNames, text, "radar method");
 }
 
+std::vector<std::string> radar_method_names() { return enum_names(kRadarMethodNames); }
+
 void RadarVelocityMethodOptions::Check() const {
-  require(search_half_range >= 0.0 && search_half_range < kPi,
-          "velocity.search_half_range must be in [0, pi)");
-  require(search_step > 0.0, "velocity.search_step must be > 0");
-  require(coarse_tolerance_mps > 0.0, "velocity.coarse_tolerance_mps must be > 0");
-  require(gate_sigmas > 0.0, "velocity.gate_sigmas must be > 0");
-  require(min_gate_mps > 0.0, "velocity.min_gate_mps must be > 0");
-  require(huber_sigmas > 0.0, "velocity.huber_sigmas must be > 0");
-  require(max_iterations >= 1, "velocity.max_iterations must be >= 1");
-  require(convergence > 0.0, "velocity.convergence must be > 0");
-  require(window_s > 0.0, "velocity.window_s must be > 0");
-  require(min_window_points >= 3, "velocity.min_window_points must be >= 3");
-  require(min_windows_for_spread >= 2, "velocity.min_windows_for_spread must be >= 2");
-  require(min_static_points >= 3, "velocity.min_static_points must be >= 3");
+  const OptionsCheck check("RadarVelocityMethodOptions");
+  check.in_range("search_half_range", search_half_range, 0.0, kPi, Bounds::kOpenMax);
+  check.positive("search_step", search_step);
+  check.positive("coarse_tolerance_mps", coarse_tolerance_mps);
+  check.positive("gate_sigmas", gate_sigmas);
+  check.positive("min_gate_mps", min_gate_mps);
+  check.positive("huber_sigmas", huber_sigmas);
+  check.at_least("max_iterations", max_iterations, 1);
+  check.positive("convergence", convergence);
+  check.positive("window_s", window_s);
+  check.at_least("min_window_points", min_window_points, 3);
+  check.at_least("min_windows_for_spread", min_windows_for_spread, 2);
+  check.at_least("min_static_points", min_static_points, 3);
 }
 
 void RadarCalibrationOptions::Check() const {
-  require(!lever_arm_in_vehicle || lever_arm_in_vehicle->allFinite(),
-          "lever_arm_in_vehicle must be finite");
-  require(min_speed_mps > 0.0, "min_speed_mps must be > 0");
-  require(max_yaw_rate >= 0.0, "max_yaw_rate must be >= 0");
-  require(max_yaw_rate_with_lever_arm >= 0.0, "max_yaw_rate_with_lever_arm must be >= 0");
-  require(min_range_m >= 0.0, "min_range_m must be >= 0");
-  require(yaw_rate_window_s > 0.0, "yaw_rate_window_s must be > 0");
-  require(max_ins_gap_s > 0.0, "max_ins_gap_s must be > 0");
+  const OptionsCheck check("RadarCalibrationOptions");
+  check.that(!lever_arm_in_vehicle || lever_arm_in_vehicle->allFinite(), "lever_arm_in_vehicle",
+             "must be finite");
+  check.positive("min_speed_mps", min_speed_mps);
+  check.non_negative("max_yaw_rate", max_yaw_rate);
+  check.non_negative("max_yaw_rate_with_lever_arm", max_yaw_rate_with_lever_arm);
+  check.non_negative("min_range_m", min_range_m);
+  check.positive("yaw_rate_window_s", yaw_rate_window_s);
+  check.positive("max_ins_gap_s", max_ins_gap_s);
   velocity.Check();
   position.Check();
   automatic.Check();
@@ -119,33 +111,33 @@ void RadarCalibrationOptions::Check() const {
 
 void RadarPositionMethodOptions::Check() const {
   straight.Check();
-  require(max_track_gap_s > 0.0, "position.max_track_gap_s must be > 0");
-  require(max_range_jump_m > 0.0, "position.max_range_jump_m must be > 0");
-  require(max_relative_speed_mps >= 0.0, "position.max_relative_speed_mps must be >= 0");
-  require(min_observations >= 2, "position.min_observations must be >= 2");
-  require(min_baseline_m > 0.0, "position.min_baseline_m must be > 0");
-  require(max_pair_turn >= 0.0 && max_pair_turn_with_lever_arm >= 0.0,
-          "position.max_pair_turn* must be >= 0");
-  require(range_sigma_m > 0.0, "position.range_sigma_m must be > 0");
-  require(azimuth_sigma > 0.0, "position.azimuth_sigma must be > 0");
-  require(odometry_sigma_fraction >= 0.0, "position.odometry_sigma_fraction must be >= 0");
-  require(triangle_sigmas > 0.0, "position.triangle_sigmas must be > 0");
-  require(min_static_fraction > 0.0 && min_static_fraction <= 1.0,
-          "position.min_static_fraction must be in (0, 1]");
+  const OptionsCheck check("RadarPositionMethodOptions");
+  check.positive("max_track_gap_s", max_track_gap_s);
+  check.positive("max_range_jump_m", max_range_jump_m);
+  check.non_negative("max_relative_speed_mps", max_relative_speed_mps);
+  check.at_least("min_observations", min_observations, 2);
+  check.positive("min_baseline_m", min_baseline_m);
+  check.non_negative("max_pair_turn", max_pair_turn);
+  check.non_negative("max_pair_turn_with_lever_arm", max_pair_turn_with_lever_arm);
+  check.positive("range_sigma_m", range_sigma_m);
+  check.positive("azimuth_sigma", azimuth_sigma);
+  check.non_negative("odometry_sigma_fraction", odometry_sigma_fraction);
+  check.positive("triangle_sigmas", triangle_sigmas);
+  check.in_range("min_static_fraction", min_static_fraction, 0.0, 1.0, Bounds::kOpenMin);
   // A pair kept at confidence 0 would have weight 0: all such pairs leave no weighted mean.
-  require(min_confidence > 0.0 && min_confidence < 1.0,
-          "position.min_confidence must be in (0, 1)");
-  require(min_abs_cos > 0.0 && min_abs_cos <= 1.0, "position.min_abs_cos must be in (0, 1]");
-  require(outlier_sigmas > 0.0, "position.outlier_sigmas must be > 0");
-  require(min_static_objects >= 1, "position.min_static_objects must be >= 1");
-  require(min_pairs >= 2, "position.min_pairs must be >= 2");
-  require(min_objects_for_spread >= 2, "position.min_objects_for_spread must be >= 2");
+  check.in_range("min_confidence", min_confidence, 0.0, 1.0, Bounds::kOpen);
+  check.in_range("min_abs_cos", min_abs_cos, 0.0, 1.0, Bounds::kOpenMin);
+  check.positive("outlier_sigmas", outlier_sigmas);
+  check.at_least("min_static_objects", min_static_objects, 1);
+  check.at_least("min_pairs", min_pairs, 2);
+  check.at_least("min_objects_for_spread", min_objects_for_spread, 2);
 }
 
 void RadarAutoOptions::Check() const {
-  require(agreement_sigmas > 0.0, "automatic.agreement_sigmas must be > 0");
-  require(agreement_floor >= 0.0, "automatic.agreement_floor must be >= 0");
-  require(min_position_objects >= 1, "automatic.min_position_objects must be >= 1");
+  const OptionsCheck check("RadarAutoOptions");
+  check.positive("agreement_sigmas", agreement_sigmas);
+  check.non_negative("agreement_floor", agreement_floor);
+  check.at_least("min_position_objects", min_position_objects, 1);
 }
 
 CalibrationResult calibrate_radar(std::span<const io::RadarDetection> detections,

@@ -32,6 +32,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "x2car/core/calibration_result.hpp"
 #include "x2car/core/rotation.hpp"
@@ -46,6 +47,7 @@ enum class RadarMethod { kAuto, kVelocity, kPosition };
 // "auto", "velocity", "position"; parsing throws std::invalid_argument listing the names.
 const char* to_string(RadarMethod method);
 RadarMethod radar_method_from_string(const std::string& text);
+std::vector<std::string> radar_method_names();  // "auto", "velocity", "position": the CLI's choices
 
 struct RadarVelocityMethodOptions {
   double search_half_range = rad_from_deg(45.0);  // A: coarse search over [-A, A] (paper) [rad]

@@ -16,25 +16,27 @@
 #include "x2car/io/novatel_csv.hpp"
 #include "x2car/io/result_json.hpp"
 #include "x2car/radar/radar_ego_motion.hpp"
-#include "x2car/radar/radar_test_drives.hpp"
 #include "x2car/radar/radar_velocity_method.hpp"
 #include "x2car/sim/radar_model.hpp"
 #include "x2car/sim/radar_scene.hpp"
 #include "x2car/sim/simulation.hpp"
+#include "x2car/sim/test_drives.hpp"
 
 namespace x2car::radar {
 namespace {
 
+namespace testing = sim::testing;
+
 using ::testing::HasSubstr;
 
-using testing::Drive;
-using testing::kLeverArm;
+using testing::kRadarLeverArm;
 using testing::radar_detections;
-using testing::urban_drive;
+using testing::RadarDrive;
+using testing::urban_radar_drive;
 
 double yaw_error_deg(std::uint64_t seed, double truth_deg, const sim::RadarOptions& radar,
                      const RadarCalibrationOptions& options) {
-  const Drive& drive = urban_drive(seed);
+  const RadarDrive& drive = urban_radar_drive(seed);
   const auto detections = radar_detections(drive, truth_deg, radar, seed);
   const CalibrationResult result = calibrate_radar(detections, drive.simulation.ins, options);
   EXPECT_TRUE(result.ok()) << result.reason;
@@ -54,7 +56,7 @@ RadarCalibrationOptions velocity_method() {
 
 RadarCalibrationOptions with_lever_arm() {
   RadarCalibrationOptions options = velocity_method();
-  options.lever_arm_in_vehicle = kLeverArm.head<2>();
+  options.lever_arm_in_vehicle = kRadarLeverArm.head<2>();
   return options;
 }
 
@@ -90,7 +92,7 @@ TEST(RadarVelocityMethod, WithoutLeverArmTurnsAreGatedOut) {
 
 // The coarse search finds psi 30 deg away from the initial guess 0.
 TEST(RadarVelocityMethod, CoarseSearchRecoversThirtyDegrees) {
-  const Drive& drive = urban_drive(2);
+  const RadarDrive& drive = urban_radar_drive(2);
   const auto detections = radar_detections(drive, 30.0, sim::RadarOptions::conti_ars408(), 2);
   const CalibrationResult result =
       calibrate_radar(detections, drive.simulation.ins, with_lever_arm());
@@ -107,7 +109,7 @@ TEST(RadarVelocityMethod, SignConvention) {
   sample.radar_velocity_in_vehicle = {10.0, 0.0};
   EXPECT_NEAR(static_range_rate(sample, rad_from_deg(10.0)), -10.0 * std::cos(rad_from_deg(30.0)),
               1e-12);
-  const Drive& drive = urban_drive(1);
+  const RadarDrive& drive = urban_radar_drive(1);
   const auto detections = radar_detections(drive, 10.0, sim::RadarOptions::conti_ars408(), 1);
   const CalibrationResult result =
       calibrate_radar(detections, drive.simulation.ins, with_lever_arm());
@@ -118,7 +120,7 @@ TEST(RadarVelocityMethod, SignConvention) {
 // Through the files, as the CLI reads them: a Delphi scan folder and novatel_enu.csv, each with
 // its own UTC time 0, aligned by radar_to_ins_time_offset.
 TEST(RadarCalibration, DelphiFilesAndNovatelLogRoundTrip) {
-  const Drive& drive = urban_drive(3);
+  const RadarDrive& drive = urban_radar_drive(3);
   const auto detections = radar_detections(drive, -7.0, sim::RadarOptions::delphi_esr(), 3);
   const std::filesystem::path folder =
       std::filesystem::path(::testing::TempDir()) / "x2car_radar_calibration_round_trip";
@@ -140,7 +142,7 @@ TEST(RadarCalibration, DelphiFilesAndNovatelLogRoundTrip) {
 }
 
 TEST(RadarCalibration, CarThatNeverMovesIsInsufficientData) {
-  const Drive& drive = urban_drive(1);
+  const RadarDrive& drive = urban_radar_drive(1);
   const auto detections = radar_detections(drive, 5.0, sim::RadarOptions::conti_ars408(), 1);
   std::vector<io::InsRecord> standing(drive.simulation.ins.begin(), drive.simulation.ins.end());
   for (io::InsRecord& record : standing) {
@@ -156,7 +158,7 @@ TEST(RadarCalibration, CarThatNeverMovesIsInsufficientData) {
 }
 
 TEST(RadarCalibration, DetectionsOutsideTheInsSpanAreCounted) {
-  const Drive& drive = urban_drive(1);
+  const RadarDrive& drive = urban_radar_drive(1);
   auto detections = radar_detections(drive, 5.0, sim::RadarOptions::conti_ars408(), 1);
   const double end = drive.simulation.ins.back().time;
   io::RadarDetection late = detections.back();
@@ -228,7 +230,7 @@ TEST(RadarCalibration, IdenticalBytesAcrossRunsAndThreadCounts) {
 }
 
 TEST(RadarCalibration, NoDetectionsIsInsufficientDataNotACrash) {
-  const Drive& drive = urban_drive(1);
+  const RadarDrive& drive = urban_radar_drive(1);
   const CalibrationResult result = calibrate_radar({}, drive.simulation.ins);
   EXPECT_FALSE(result.ok());
   EXPECT_THAT(result.reason, HasSubstr("only 0 radar detections"));
@@ -240,25 +242,6 @@ TEST(RadarCalibration, OptionsAreChecked) {
   EXPECT_THROW(options.Check(), std::invalid_argument);
   EXPECT_EQ(radar_method_from_string("velocity"), RadarMethod::kVelocity);
   EXPECT_THROW(radar_method_from_string("doppler"), std::invalid_argument);
-}
-
-TEST(RadarEgoMotion, LeverArmAddsYawRateCrossLeverArm) {
-  std::vector<io::InsRecord> ins(3);
-  for (int i = 0; i < 3; ++i) {
-    ins[i].time = i;
-    ins[i].velocity_enu = {10.0, 0.0, 0.0};
-    ins[i].attitude.yaw = 0.1 * i;  // 0.1 rad/s left
-  }
-  io::RadarDetection detection;
-  detection.time = 1.0;
-  const RadarEgoMotion motion =
-      radar_ego_motion(std::vector{detection}, ins, Eigen::Vector2d(4.0, 1.0));
-  ASSERT_EQ(motion.samples.size(), 1u);
-  EXPECT_NEAR(motion.samples[0].yaw_rate, 0.1, 1e-12);
-  EXPECT_NEAR(motion.samples[0].radar_velocity_in_vehicle.x(), 10.0 - 0.1 * 1.0, 1e-12);
-  EXPECT_NEAR(motion.samples[0].radar_velocity_in_vehicle.y(), 0.1 * 4.0, 1e-12);
-  EXPECT_DOUBLE_EQ(radar_to_ins_time_offset(100.5, 100.0), 0.5);
-  EXPECT_DOUBLE_EQ(radar_to_ins_time_offset(0.0, 100.0), 0.0);
 }
 
 }  // namespace

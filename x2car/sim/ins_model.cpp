@@ -5,22 +5,11 @@
 #include <stdexcept>
 #include <string>
 
+#include "x2car/core/options_check.hpp"
 #include "x2car/sim/random.hpp"
 
 namespace x2car::sim {
 namespace {
-
-void check_positive(double value, const char* name) {
-  if (!(value > 0.0) || !std::isfinite(value)) {
-    throw std::invalid_argument(std::string("InsOptions: ") + name + " must be positive");
-  }
-}
-
-void check_sigma(double value, const char* name) {
-  if (!(value >= 0.0) || !std::isfinite(value)) {
-    throw std::invalid_argument(std::string("InsOptions: ") + name + " must be >= 0");
-  }
-}
 
 // A first-order Gauss-Markov process sampled at irregular steps; exact discretisation of
 // db/dt = -b / tau + white noise with stationary standard deviation sigma.
@@ -105,18 +94,19 @@ InsOptions InsOptions::sps() {
 }
 
 void InsOptions::Check() const {
-  check_positive(rate_hz, "rate_hz");
-  check_positive(position_markov_tau, "position_markov_tau");
-  check_positive(heading_bias_tau, "heading_bias_tau");
-  check_sigma(position_white_sigma_horizontal, "position_white_sigma_horizontal");
-  check_sigma(position_white_sigma_vertical, "position_white_sigma_vertical");
-  check_sigma(position_markov_sigma_horizontal, "position_markov_sigma_horizontal");
-  check_sigma(position_markov_sigma_vertical, "position_markov_sigma_vertical");
-  check_sigma(velocity_sigma_horizontal, "velocity_sigma_horizontal");
-  check_sigma(velocity_sigma_vertical, "velocity_sigma_vertical");
-  check_sigma(heading_sigma, "heading_sigma");
-  check_sigma(heading_bias_sigma, "heading_bias_sigma");
-  check_sigma(roll_pitch_sigma, "roll_pitch_sigma");
+  const OptionsCheck check("InsOptions");
+  check.positive("rate_hz", rate_hz);
+  check.positive("position_markov_tau", position_markov_tau);
+  check.positive("heading_bias_tau", heading_bias_tau);
+  check.non_negative("position_white_sigma_horizontal", position_white_sigma_horizontal);
+  check.non_negative("position_white_sigma_vertical", position_white_sigma_vertical);
+  check.non_negative("position_markov_sigma_horizontal", position_markov_sigma_horizontal);
+  check.non_negative("position_markov_sigma_vertical", position_markov_sigma_vertical);
+  check.non_negative("velocity_sigma_horizontal", velocity_sigma_horizontal);
+  check.non_negative("velocity_sigma_vertical", velocity_sigma_vertical);
+  check.non_negative("heading_sigma", heading_sigma);
+  check.non_negative("heading_bias_sigma", heading_bias_sigma);
+  check.non_negative("roll_pitch_sigma", roll_pitch_sigma);
 }
 
 InsSample true_ins_sample(const VehicleState& state, const Eigen::Isometry3d& vehicle_from_ins) {

@@ -8,15 +8,11 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "x2car/core/options_check.hpp"
 #include "x2car/sim/random.hpp"
 
 namespace x2car::sim {
 namespace {
-
-template <typename... Args>
-[[noreturn]] void reject(fmt::format_string<Args...> format, Args&&... args) {
-  throw std::invalid_argument(fmt::format(format, std::forward<Args>(args)...));
-}
 
 // `count` elevations evenly from `low` to `high` [deg] (both included).
 void add_even(std::vector<LidarBeam>& beams, int count, double low_deg, double high_deg) {
@@ -55,31 +51,23 @@ std::vector<LidarBeam> lidar_beam_table(int beams) {
       set_offsets(table, {-3.0, -1.0, 1.0, 3.0});
       return table;
     default:
-      reject("lidar: no beam table for {} beams (32, 64 or 128)", beams);
+      reject_argument("lidar: no beam table for {} beams (32, 64 or 128)", beams);
   }
 }
 
 int LidarOptions::columns() const { return static_cast<int>(std::lround(kTwoPi / azimuth_step)); }
 
 void LidarOptions::Check() const {
-  if (beams != 32 && beams != 64 && beams != 128) reject("lidar: beams must be 32, 64 or 128");
-  if (!(rate_hz > 0.0 && rate_hz <= 100.0)) reject("lidar: rate_hz must be in (0, 100]");
-  if (!(azimuth_step >= rad_from_deg(0.01) && azimuth_step <= rad_from_deg(10.0))) {
-    reject("lidar: azimuth_step must be in [0.01, 10] deg");
-  }
-  if (!std::isfinite(start_azimuth)) reject("lidar: start_azimuth must be finite");
-  if (!(range_noise_m >= 0.0 && range_noise_m < 1.0)) {
-    reject("lidar: range_noise_m must be in [0, 1)");
-  }
-  if (!(min_range_m >= 0.0 && min_range_m < max_range_m && max_range_m <= 1000.0)) {
-    reject("lidar: need 0 <= min_range_m < max_range_m <= 1000");
-  }
-  if (!(range_10pct_m > 0.0 && std::isfinite(range_10pct_m))) {
-    reject("lidar: range_10pct_m must be > 0");
-  }
-  if (!(dropout_probability >= 0.0 && dropout_probability < 1.0)) {
-    reject("lidar: dropout_probability must be in [0, 1)");
-  }
+  const OptionsCheck check("LidarOptions");
+  check.that(beams == 32 || beams == 64 || beams == 128, "beams", "must be 32, 64 or 128", beams);
+  check.in_range("rate_hz", rate_hz, 0.0, 100.0, Bounds::kOpenMin);
+  check.in_range("azimuth_step", azimuth_step, rad_from_deg(0.01), rad_from_deg(10.0));
+  check.finite("start_azimuth", start_azimuth);
+  check.in_range("range_noise_m", range_noise_m, 0.0, 1.0, Bounds::kOpenMax);
+  check.non_negative("min_range_m", min_range_m);
+  check.in_range("max_range_m", max_range_m, min_range_m, 1000.0, Bounds::kOpenMin);
+  check.positive("range_10pct_m", range_10pct_m);
+  check.in_range("dropout_probability", dropout_probability, 0.0, 1.0, Bounds::kOpenMax);
 }
 
 Eigen::Isometry3d world_from_vehicle_at(const VehicleStates& states, double time) {

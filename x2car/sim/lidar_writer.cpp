@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "x2car/core/enum_names.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/io/kitti_velodyne.hpp"
 #include "x2car/io/pcd.hpp"
@@ -21,26 +22,21 @@ void create_folder(const std::filesystem::path& folder) {
 
 }  // namespace
 
+constexpr std::array<EnumName<LidarFileFormat>, 3> kLidarFileFormatNames{{
+    {LidarFileFormat::kPcd, "pcd"},
+    {LidarFileFormat::kKitti, "kitti"},
+    {LidarFileFormat::kBoth, "both"},
+}};
+
 std::string to_string(LidarFileFormat format) {
-  switch (format) {
-    case LidarFileFormat::kPcd:
-      return "pcd";
-    case LidarFileFormat::kKitti:
-      return "kitti";
-    case LidarFileFormat::kBoth:
-      return "both";
-  }
-  throw std::invalid_argument("unknown LiDAR file format");
+  return enum_to_string(kLidarFileFormatNames, format);
 }
 
 LidarFileFormat lidar_file_format_from_string(std::string_view name) {
-  for (const auto format :
-       {LidarFileFormat::kPcd, LidarFileFormat::kKitti, LidarFileFormat::kBoth}) {
-    if (to_string(format) == name) return format;
-  }
-  throw std::invalid_argument(
-      fmt::format("unknown LiDAR file format '{}' (valid: pcd, kitti, both)", name));
+  return enum_from_string(kLidarFileFormatNames, name, "LiDAR file format");
 }
+
+std::vector<std::string> lidar_file_format_names() { return enum_names(kLidarFileFormatNames); }
 
 std::string lidar_sweep_file_name(double start_time_s) {
   return fmt::format("{:013.6f}.pcd", start_time_s);

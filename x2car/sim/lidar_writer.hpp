@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "x2car/sim/lidar_model.hpp"
 #include "x2car/sim/world.hpp"
@@ -24,6 +25,7 @@ enum class LidarFileFormat { kPcd, kKitti, kBoth };
 std::string to_string(LidarFileFormat format);  // "pcd", "kitti", "both"
 // Inverse of to_string; throws std::invalid_argument listing the valid names.
 LidarFileFormat lidar_file_format_from_string(std::string_view name);
+std::vector<std::string> lidar_file_format_names();  // the CLI's choices, in table order
 
 // "000012.300000.pcd" for a sweep starting 12.3 s into the log.
 std::string lidar_sweep_file_name(double start_time_s);

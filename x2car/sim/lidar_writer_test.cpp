@@ -12,16 +12,14 @@
 #include "x2car/io/pcd.hpp"
 #include "x2car/io/text_lines.hpp"
 #include "x2car/sim/simulation.hpp"
+#include "x2car/sim/test_drives.hpp"
 
 namespace x2car::sim {
 namespace {
 
 SimulationOptions short_lidar_drive(std::uint64_t seed) {
-  SimulationOptions options;
-  options.scenario = Scenario::kUrban;
-  options.duration_s = 1.0;
-  options.seed = seed;
-  options.sensors = {"ins", "lidar"};
+  SimulationOptions options =
+      testing::simulated_drive(Scenario::kUrban, 1.0, seed, {"ins", "lidar"});
   options.lidar.azimuth_step = rad_from_deg(1.0);
   options.lidar_format = LidarFileFormat::kBoth;
   return options;

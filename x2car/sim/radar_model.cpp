@@ -8,16 +8,13 @@
 #include <stdexcept>
 #include <string>
 
+#include "x2car/core/options_check.hpp"
 #include "x2car/core/trajectory.hpp"
 #include "x2car/sim/radar_tracks.hpp"
 #include "x2car/sim/random.hpp"
 
 namespace x2car::sim {
 namespace {
-
-void require(bool condition, const std::string& what) {
-  if (!condition) throw std::invalid_argument("radar options: " + what);
-}
 
 // A source's true apparent geometry in the radar frame (the header's formulas).
 struct Apparent {
@@ -306,42 +303,40 @@ RadarOptions RadarOptions::delphi_esr() {
 }
 
 void RadarOptions::Check() const {
-  const auto finite_non_negative = [](double v) { return std::isfinite(v) && v >= 0.0; };
-  const auto probability = [](double p) { return p >= 0.0 && p <= 1.0; };
-  require(rate_hz >= 1.0 && rate_hz <= 100.0, "rate_hz must be in [1, 100] Hz");
-  require(finite_non_negative(min_range_m), "min_range_m must not be negative");
-  require(near_max_range_m > min_range_m && far_max_range_m > min_range_m,
-          "near_max_range_m and far_max_range_m must exceed min_range_m");
-  require(std::isfinite(near_max_range_m) && std::isfinite(far_max_range_m),
-          "maximum ranges must be finite");
-  require(near_max_azimuth > 0.0 && near_max_azimuth <= kPi && far_max_azimuth > 0.0 &&
-              far_max_azimuth <= kPi,
-          "near_max_azimuth and far_max_azimuth must be in (0, pi]");
-  require(max_detection_probability > 0.0 && max_detection_probability <= 1.0,
-          "max_detection_probability must be in (0, 1]");
-  require(reference_range_m > 0.0 && std::isfinite(reference_range_m),
-          "reference_range_m must be positive");
-  require(detection_slope_db > 0.0 && std::isfinite(detection_slope_db),
-          "detection_slope_db must be positive");
-  require(finite_non_negative(edge_loss_db), "edge_loss_db must not be negative");
-  require(finite_non_negative(range_sigma_m) && finite_non_negative(azimuth_sigma) &&
-              finite_non_negative(range_rate_sigma_mps) &&
-              finite_non_negative(velocity_sigma_mps) && finite_non_negative(rcs_sigma_db),
-          "noise sigmas must not be negative");
-  require(track_id_count >= 1, "track_id_count must be at least 1");
-  require(max_coast_scans >= 0, "max_coast_scans must not be negative");
-  require(probability(track_break_probability), "track_break_probability must be in [0, 1]");
-  require(min_break_scans >= 1 && max_break_scans >= min_break_scans,
-          "break scans must satisfy 1 <= min_break_scans <= max_break_scans");
-  require(probability(ghost_birth_probability) && probability(ghost_death_probability),
-          "ghost probabilities must be in [0, 1]");
-  require(finite_non_negative(ghost_max_range_m) && finite_non_negative(ghost_loss_db),
-          "ghost_max_range_m and ghost_loss_db must not be negative");
-  require(finite_non_negative(clutter_rate) && clutter_rate <= 100.0,
-          "clutter_rate must be in [0, 100] per scan");
-  require(clutter_max_lifetime_scans >= 1, "clutter_max_lifetime_scans must be at least 1");
-  require(probability(clutter_static_fraction), "clutter_static_fraction must be in [0, 1]");
-  require(finite_non_negative(clutter_max_speed_mps), "clutter_max_speed_mps must not be negative");
+  const OptionsCheck check("RadarOptions");
+  check.in_range("rate_hz", rate_hz, 1.0, 100.0);
+  check.non_negative("min_range_m", min_range_m);
+  check.positive("near_max_range_m", near_max_range_m);
+  check.positive("far_max_range_m", far_max_range_m);
+  check.that(near_max_range_m > min_range_m, "near_max_range_m", "must be > min_range_m",
+             near_max_range_m);
+  check.that(far_max_range_m > min_range_m, "far_max_range_m", "must be > min_range_m",
+             far_max_range_m);
+  check.in_range("near_max_azimuth", near_max_azimuth, 0.0, kPi, Bounds::kOpenMin);
+  check.in_range("far_max_azimuth", far_max_azimuth, 0.0, kPi, Bounds::kOpenMin);
+  check.in_range("max_detection_probability", max_detection_probability, 0.0, 1.0,
+                 Bounds::kOpenMin);
+  check.positive("reference_range_m", reference_range_m);
+  check.positive("detection_slope_db", detection_slope_db);
+  check.non_negative("edge_loss_db", edge_loss_db);
+  check.non_negative("range_sigma_m", range_sigma_m);
+  check.non_negative("azimuth_sigma", azimuth_sigma);
+  check.non_negative("range_rate_sigma_mps", range_rate_sigma_mps);
+  check.non_negative("velocity_sigma_mps", velocity_sigma_mps);
+  check.non_negative("rcs_sigma_db", rcs_sigma_db);
+  check.at_least("track_id_count", track_id_count, 1);
+  check.at_least("max_coast_scans", max_coast_scans, 0);
+  check.probability("track_break_probability", track_break_probability);
+  check.at_least("min_break_scans", min_break_scans, 1);
+  check.at_least("max_break_scans", max_break_scans, min_break_scans);
+  check.probability("ghost_birth_probability", ghost_birth_probability);
+  check.probability("ghost_death_probability", ghost_death_probability);
+  check.non_negative("ghost_max_range_m", ghost_max_range_m);
+  check.non_negative("ghost_loss_db", ghost_loss_db);
+  check.in_range("clutter_rate", clutter_rate, 0.0, 100.0);  // per scan
+  check.at_least("clutter_max_lifetime_scans", clutter_max_lifetime_scans, 1);
+  check.probability("clutter_static_fraction", clutter_static_fraction);
+  check.non_negative("clutter_max_speed_mps", clutter_max_speed_mps);
 }
 
 RadarKinematics radar_kinematics_at(const VehicleStates& states,

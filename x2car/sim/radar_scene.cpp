@@ -1,5 +1,7 @@
 #include "x2car/sim/radar_scene.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -7,20 +9,12 @@
 #include <stdexcept>
 #include <string>
 
+#include "x2car/core/options_check.hpp"
 #include "x2car/core/rotation.hpp"
 #include "x2car/sim/random.hpp"
 
 namespace x2car::sim {
 namespace {
-
-void require(bool condition, const std::string& what) {
-  if (!condition) throw std::invalid_argument("radar scene: " + what);
-}
-
-void require_range(double min, double max, const std::string& name) {
-  require(std::isfinite(min) && std::isfinite(max) && min <= max,
-          "min_" + name + " must not exceed max_" + name);
-}
 
 bool finite(const Eigen::Vector3d& v) { return v.allFinite(); }
 
@@ -272,73 +266,90 @@ std::optional<MoverSample> RadarMover::at(double time) const {
 }
 
 void RadarScene::Check() const {
+  const OptionsCheck check("RadarScene");
   std::set<int> ids;
   const auto check_id = [&](int id) {
-    require(id >= 0, "object ids must not be negative, found " + std::to_string(id));
-    require(ids.insert(id).second, "object id " + std::to_string(id) + " is used twice");
+    check.at_least("object_id", id, 0);
+    check.that(ids.insert(id).second, "object_id", "must not be used twice", id);
   };
   for (const RadarReflector& r : reflectors) {
     check_id(r.object_id);
-    require(finite(r.position_world) && std::isfinite(r.rcs_dbsm),
-            "reflector " + std::to_string(r.object_id) + " has a non-finite value");
+    const std::string name = fmt::format("reflectors[id {}]", r.object_id);
+    check.that(finite(r.position_world), name + ".position_world", "must be finite");
+    check.finite(name + ".rcs_dbsm", r.rcs_dbsm);
   }
   for (const RadarMover& m : movers) {
     check_id(m.object_id);
-    const std::string name = "mover " + std::to_string(m.object_id);
-    require(!m.path.empty() && std::isfinite(m.rcs_dbsm), name + " has no path or a bad RCS");
+    const std::string name = fmt::format("movers[id {}]", m.object_id);
+    check.that(!m.path.empty(), name + ".path", "must not be empty");
+    check.finite(name + ".rcs_dbsm", m.rcs_dbsm);
     for (std::size_t j = 0; j < m.path.size(); ++j) {
       const MoverSample& s = m.path[j];
-      require(std::isfinite(s.time) && finite(s.position_world) && finite(s.velocity_enu),
-              name + " has a non-finite sample");
-      require(j == 0 || s.time > m.path[j - 1].time, name + ": times must strictly increase");
+      const std::string sample = fmt::format("{}.path[{}]", name, j);
+      check.finite(sample + ".time", s.time);
+      check.that(finite(s.position_world) && finite(s.velocity_enu), sample,
+                 "must have a finite position and velocity");
+      check.that(j == 0 || s.time > m.path[j - 1].time, sample + ".time",
+                 "must be later than the sample before", s.time);
     }
   }
 }
 
 void RadarSceneOptions::Check() const {
-  require(lane_width_m > 0.0, "lane_width_m must be positive");
-  require(post_min_spacing_m > 0.0 && parked_min_spacing_m > 0.0 && oncoming_min_spacing_m > 0.0 &&
-              cyclist_min_spacing_m > 0.0,
-          "spacings must be positive");
-  require_range(post_min_spacing_m, post_max_spacing_m, "spacing_m (posts)");
-  require_range(post_min_offset_m, post_max_offset_m, "offset_m (posts)");
-  require_range(post_min_rcs_dbsm, post_max_rcs_dbsm, "rcs_dbsm (posts)");
-  require_range(parked_min_spacing_m, parked_max_spacing_m, "spacing_m (parked)");
-  require_range(car_min_rcs_dbsm, car_max_rcs_dbsm, "rcs_dbsm (cars)");
-  require(traffic_density > 0.0 && std::isfinite(traffic_density),
-          "traffic_density must be positive");
-  require_range(oncoming_min_spacing_m, oncoming_max_spacing_m, "spacing_m (oncoming)");
-  require_range(oncoming_min_speed_mps, oncoming_max_speed_mps, "speed_mps (oncoming)");
-  require(oncoming_min_speed_mps >= 0.0 && cyclist_min_speed_mps >= 0.0,
-          "speeds must not be negative");
-  require(cars_ahead >= 0 && cars_behind >= 0, "cars_ahead and cars_behind must not be negative");
-  require(min_gap_m > 0.0, "min_gap_m must be positive");
-  require_range(min_gap_m, max_gap_m, "gap_m");
-  require(min_time_gap_s >= 0.0, "min_time_gap_s must not be negative");
-  require_range(min_time_gap_s, max_time_gap_s, "time_gap_s");
-  require(min_presence_s > 0.0, "min_presence_s must be positive");
-  require_range(min_presence_s, max_presence_s, "presence_s");
-  require(min_absence_s > 0.0, "min_absence_s must be positive");
-  require_range(min_absence_s, max_absence_s, "absence_s");
-  require_range(cyclist_min_spacing_m, cyclist_max_spacing_m, "spacing_m (cyclists)");
-  require_range(cyclist_min_speed_mps, cyclist_max_speed_mps, "speed_mps (cyclists)");
-  require_range(cyclist_min_rcs_dbsm, cyclist_max_rcs_dbsm, "rcs_dbsm (cyclists)");
-  require(std::isfinite(parked_offset_m) && std::isfinite(cyclist_offset_m) &&
-              std::isfinite(reflector_height_m),
-          "offsets and height must be finite");
-  require(margin_m >= 0.0 && std::isfinite(margin_m), "margin_m must not be negative");
-  require(mover_sample_period_s > 0.0 && mover_sample_period_s <= 1.0,
-          "mover_sample_period_s must be in (0, 1] s");
+  const OptionsCheck check("RadarSceneOptions");
+  check.positive("lane_width_m", lane_width_m);
+  check.positive("post_min_spacing_m", post_min_spacing_m);
+  check.ordered("post_min_spacing_m", post_min_spacing_m, "post_max_spacing_m", post_max_spacing_m);
+  check.ordered("post_min_offset_m", post_min_offset_m, "post_max_offset_m", post_max_offset_m);
+  check.ordered("post_min_rcs_dbsm", post_min_rcs_dbsm, "post_max_rcs_dbsm", post_max_rcs_dbsm);
+  check.positive("parked_min_spacing_m", parked_min_spacing_m);
+  check.ordered("parked_min_spacing_m", parked_min_spacing_m, "parked_max_spacing_m",
+                parked_max_spacing_m);
+  check.ordered("car_min_rcs_dbsm", car_min_rcs_dbsm, "car_max_rcs_dbsm", car_max_rcs_dbsm);
+  check.positive("traffic_density", traffic_density);
+  check.positive("oncoming_min_spacing_m", oncoming_min_spacing_m);
+  check.ordered("oncoming_min_spacing_m", oncoming_min_spacing_m, "oncoming_max_spacing_m",
+                oncoming_max_spacing_m);
+  check.non_negative("oncoming_min_speed_mps", oncoming_min_speed_mps);
+  check.ordered("oncoming_min_speed_mps", oncoming_min_speed_mps, "oncoming_max_speed_mps",
+                oncoming_max_speed_mps);
+  check.at_least("cars_ahead", cars_ahead, 0);
+  check.at_least("cars_behind", cars_behind, 0);
+  check.positive("min_gap_m", min_gap_m);
+  check.ordered("min_gap_m", min_gap_m, "max_gap_m", max_gap_m);
+  check.non_negative("min_time_gap_s", min_time_gap_s);
+  check.ordered("min_time_gap_s", min_time_gap_s, "max_time_gap_s", max_time_gap_s);
+  check.positive("min_presence_s", min_presence_s);
+  check.ordered("min_presence_s", min_presence_s, "max_presence_s", max_presence_s);
+  check.positive("min_absence_s", min_absence_s);
+  check.ordered("min_absence_s", min_absence_s, "max_absence_s", max_absence_s);
+  check.positive("cyclist_min_spacing_m", cyclist_min_spacing_m);
+  check.ordered("cyclist_min_spacing_m", cyclist_min_spacing_m, "cyclist_max_spacing_m",
+                cyclist_max_spacing_m);
+  check.non_negative("cyclist_min_speed_mps", cyclist_min_speed_mps);
+  check.ordered("cyclist_min_speed_mps", cyclist_min_speed_mps, "cyclist_max_speed_mps",
+                cyclist_max_speed_mps);
+  check.ordered("cyclist_min_rcs_dbsm", cyclist_min_rcs_dbsm, "cyclist_max_rcs_dbsm",
+                cyclist_max_rcs_dbsm);
+  check.finite("parked_offset_m", parked_offset_m);
+  check.finite("cyclist_offset_m", cyclist_offset_m);
+  check.finite("reflector_height_m", reflector_height_m);
+  check.non_negative("margin_m", margin_m);
+  check.in_range("mover_sample_period_s", mover_sample_period_s, 0.0, 1.0, Bounds::kOpenMin);
 }
 
 RadarScene generate_radar_scene(const VehicleStates& states, const RadarSceneOptions& options,
                                 std::uint64_t seed, int first_object_id) {
   options.Check();
-  require(states.size() >= 2, "at least 2 vehicle states are needed");
+  if (states.size() < 2) reject_argument("radar scene: at least 2 vehicle states are needed");
   for (std::size_t i = 1; i < states.size(); ++i) {
-    require(states[i].time > states[i - 1].time, "vehicle state times must strictly increase");
+    if (!(states[i].time > states[i - 1].time)) {
+      reject_argument("radar scene: vehicle state times must strictly increase (state {})", i);
+    }
   }
-  require(first_object_id >= 0, "first_object_id must not be negative");
+  if (first_object_id < 0) {
+    reject_argument("radar scene: first_object_id must be >= 0 (got {})", first_object_id);
+  }
   return SceneBuilder(states, options, seed, first_object_id).build();
 }
 

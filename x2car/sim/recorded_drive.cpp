@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "x2car/core/options_check.hpp"
 #include "x2car/core/rotation.hpp"
 
 namespace x2car::sim {
@@ -14,10 +15,6 @@ constexpr double kDamping = 0.7;   // of the path-following controller (header)
 constexpr int kSubsteps = 8;       // Simpson steps per knot interval when integrating the fit
 constexpr double kMinPathM = 1.0;  // shortest path that makes a route [m]
 constexpr double kMaxPathM = 1e6;  // longest, that of a generated route's plan [m]
-
-void require(bool condition, const std::string& what) {
-  if (!condition) throw std::invalid_argument("recorded drive: " + what);
-}
 
 // The recorded path's horizontal track as a polyline of distinct points with their distance
 // along it.
@@ -99,23 +96,28 @@ double steer(const Track& track, const PlanState& state, double d,
 }  // namespace
 
 void RecordedDriveOptions::Check() const {
+  const OptionsCheck check("RecordedDriveOptions");
   // One knot (and ~120 track probes) every knot_spacing_m of the path: below 0.1 m it only stalls.
-  require(knot_spacing_m >= 0.1 && knot_spacing_m <= 100.0, "knot_spacing_m must be in [0.1, 100]");
-  require(preview_m > 0.0 && std::isfinite(preview_m), "preview_m must be > 0");
-  require(min_step_m >= 0.0 && std::isfinite(min_step_m), "min_step_m must be >= 0");
-  require(max_curvature > 0.0 && std::isfinite(max_curvature), "max_curvature must be > 0");
-  require(min_duration_s >= 0.0 && std::isfinite(min_duration_s), "min_duration_s must be >= 0");
+  check.in_range("knot_spacing_m", knot_spacing_m, 0.1, 100.0);
+  check.positive("preview_m", preview_m);
+  check.non_negative("min_step_m", min_step_m);
+  check.positive("max_curvature", max_curvature);
+  check.non_negative("min_duration_s", min_duration_s);
 }
 
 RecordedDrive fit_recorded_drive(std::span<const StampedPose> poses,
                                  const RecordedDriveOptions& options) {
   options.Check();
-  require(poses.size() >= 2, "needs at least 2 poses");
+  if (poses.size() < 2) reject_argument("recorded drive: needs at least 2 poses");
   for (std::size_t i = 1; i < poses.size(); ++i) {
-    require(poses[i].time > poses[i - 1].time, "pose times must strictly increase");
+    if (!(poses[i].time > poses[i - 1].time)) {
+      reject_argument("recorded drive: pose times must strictly increase (pose {})", i);
+    }
   }
-  require(poses.back().time - poses.front().time >= options.min_duration_s,
-          "the recording is shorter than min_duration_s");
+  if (!(poses.back().time - poses.front().time >= options.min_duration_s)) {
+    reject_argument("recorded drive: the recording is shorter than min_duration_s ({:g} s)",
+                    options.min_duration_s);
+  }
   const Eigen::Vector3d origin = poses.front().world_from_body.translation();
 
   // Each pose's distance along the track; standing poses keep the last distance.
@@ -133,11 +135,14 @@ RecordedDrive fit_recorded_drive(std::span<const StampedPose> poses,
     times.push_back(pose.time - poses.front().time);
     arc_lengths.push_back(track.distance.back());
   }
-  require(track.points.size() >= 2 && track.length() >= kMinPathM,
-          "the path must be at least 1 m long");
+  if (!(track.points.size() >= 2 && track.length() >= kMinPathM)) {
+    reject_argument("recorded drive: the path must be at least 1 m long");
+  }
   // As long as a generated route may be: a longer path (a wild jump between poses) would take
   // minutes of fitting only to fail on the route's table.
-  require(track.length() <= kMaxPathM, "the path must be at most 1000 km long");
+  if (!(track.length() <= kMaxPathM)) {
+    reject_argument("recorded drive: the path must be at most 1000 km long");
+  }
 
   // Knots every knot_spacing_m, the last one at the track's end.
   RoadPlan plan;

@@ -6,17 +6,10 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "x2car/core/options_check.hpp"
+
 namespace x2car::sim {
 namespace {
-
-template <typename... Args>
-[[noreturn]] void reject(fmt::format_string<Args...> format, Args&&... args) {
-  throw std::invalid_argument(fmt::format(format, std::forward<Args>(args)...));
-}
-
-void check_positive(const char* name, double value) {
-  if (!(value > 0.0 && std::isfinite(value))) reject("road options: {} must be > 0", name);
-}
 
 Scenario road_kind_of(Scenario kind) {
   return kind == Scenario::kHighway ? Scenario::kHighway : Scenario::kUrban;
@@ -170,26 +163,21 @@ RoadStation make_station(const Route& route, double s, const RouteOffsets& offse
 }  // namespace
 
 void RoadOptions::Check() const {
-  check_positive("lane_width_m", lane_width_m);
-  if (highway_lanes < 1 || highway_lanes > kMaxHighwayLanes) {
-    reject("road options: highway_lanes must be in [1, {}]", kMaxHighwayLanes);
-  }
-  check_positive("urban_shoulder_m", urban_shoulder_m);
-  check_positive("sidewalk_width_m", sidewalk_width_m);
-  check_positive("curb_height_m", curb_height_m);
-  check_positive("highway_median_m", highway_median_m);
-  check_positive("highway_shoulder_m", highway_shoulder_m);
-  check_positive("guard_rail_offset_m", guard_rail_offset_m);
-  if (!(extension_m >= 0.0 && extension_m <= 1000.0)) {
-    reject("road options: extension_m must be in [0, 1000]");
-  }
+  const OptionsCheck check("RoadOptions");
+  check.positive("lane_width_m", lane_width_m);
+  check.in_range("highway_lanes", highway_lanes, 1, kMaxHighwayLanes);
+  check.positive("urban_shoulder_m", urban_shoulder_m);
+  check.positive("sidewalk_width_m", sidewalk_width_m);
+  check.positive("curb_height_m", curb_height_m);
+  check.positive("highway_median_m", highway_median_m);
+  check.positive("highway_shoulder_m", highway_shoulder_m);
+  check.positive("guard_rail_offset_m", guard_rail_offset_m);
+  check.in_range("extension_m", extension_m, 0.0, 1000.0);
   // Stations are at least 0.05 m apart in curves (station_step); a smaller maximum would only
   // multiply the road's stations (and its meshes) for nothing.
-  if (!(max_station_step_m >= 0.05 && max_station_step_m <= 10.0)) {
-    reject("road options: max_station_step_m must be in [0.05, 10]");
-  }
-  check_positive("max_station_turn", max_station_turn);
-  check_positive("section_transition_m", section_transition_m);
+  check.in_range("max_station_step_m", max_station_step_m, 0.05, 10.0);
+  check.positive("max_station_turn", max_station_turn);
+  check.positive("section_transition_m", section_transition_m);
 }
 
 double CrossSection::right_lane_centre(int k) const {

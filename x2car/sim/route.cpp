@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "x2car/core/options_check.hpp"
+
 namespace x2car::sim {
 namespace {
 
@@ -23,11 +25,6 @@ constexpr std::array<double, 4> kGaussNodes = {-0.8611363115940526, -0.339981043
                                                0.3399810435848563, 0.8611363115940526};
 constexpr std::array<double, 4> kGaussWeights = {0.3478548451374538, 0.6521451548625461,
                                                  0.6521451548625461, 0.3478548451374538};
-
-template <typename... Args>
-[[noreturn]] void reject(fmt::format_string<Args...> format, Args&&... args) {
-  throw std::invalid_argument(fmt::format(format, std::forward<Args>(args)...));
-}
 
 double wavenumber(const SineWave& wave) { return 2.0 * kPi / wave.wavelength_m; }
 
@@ -65,30 +62,33 @@ double amplitude_sum(const std::vector<SineWave>& waves) {
 
 void check_plan(const RoadPlan& plan) {
   const auto& knots = plan.curvature;
-  if (knots.size() < 2) reject("route: the plan needs at least 2 curvature knots");
-  if (knots.front().s != 0.0) reject("route: the first knot must be at s = 0");
-  if (!std::isfinite(plan.initial_heading_enu)) reject("route: initial heading is not finite");
+  if (knots.size() < 2) reject_argument("route: the plan needs at least 2 curvature knots");
+  if (knots.front().s != 0.0) reject_argument("route: the first knot must be at s = 0");
+  if (!std::isfinite(plan.initial_heading_enu))
+    reject_argument("route: initial heading is not finite");
   for (std::size_t i = 0; i < knots.size(); ++i) {
     if (!std::isfinite(knots[i].s) || !std::isfinite(knots[i].curvature)) {
-      reject("route: knot {} is not finite", i);
+      reject_argument("route: knot {} is not finite", i);
     }
-    if (i > 0 && !(knots[i].s > knots[i - 1].s)) reject("route: knot {} does not advance s", i);
+    if (i > 0 && !(knots[i].s > knots[i - 1].s))
+      reject_argument("route: knot {} does not advance s", i);
   }
   const auto& bank = plan.bank;
   for (std::size_t i = 0; i < bank.size(); ++i) {
     if (!(bank[i].s >= 0.0 && bank[i].s <= plan.length() && std::abs(bank[i].share) <= 1.0) ||
         (i > 0 && !(bank[i].s > bank[i - 1].s))) {
-      reject("route: bank knot {} is outside the route, out of order or beyond [-1, 1]", i);
+      reject_argument("route: bank knot {} is outside the route, out of order or beyond [-1, 1]",
+                      i);
     }
   }
   if (!bank.empty() && (bank.front().share != 0.0 || bank.back().share != 0.0)) {
-    reject("route: the bank must start and end at share 0, so that it is continuous");
+    reject_argument("route: the bank must start and end at share 0, so that it is continuous");
   }
   for (std::size_t i = 0; i < plan.stop_points.size(); ++i) {
     const double stop = plan.stop_points[i];
     if (!(stop > 0.0 && stop <= plan.length()) || (i > 0 && !(stop > plan.stop_points[i - 1]))) {
-      reject("route: stop point {} at {} m is outside (0, {}] or out of order", i, stop,
-             plan.length());
+      reject_argument("route: stop point {} at {} m is outside (0, {}] or out of order", i, stop,
+                      plan.length());
     }
   }
 }
@@ -98,12 +98,12 @@ void check_profile(const VerticalProfile& profile) {
     for (const SineWave& wave : *waves) {
       if (!(std::isfinite(wave.amplitude) && std::isfinite(wave.phase) && wave.wavelength_m > 0.0 &&
             std::isfinite(wave.wavelength_m))) {
-        reject("route: a vertical-profile wave is not finite or has wavelength <= 0");
+        reject_argument("route: a vertical-profile wave is not finite or has wavelength <= 0");
       }
     }
   }
   if (!(std::isfinite(profile.curve_bank) && profile.curve_bank >= 0.0)) {
-    reject("route: curve_bank must be finite and >= 0");
+    reject_argument("route: curve_bank must be finite and >= 0");
   }
 }
 
@@ -128,7 +128,8 @@ Route::Route(RoadPlan plan, VerticalProfile profile, double table_step_m)
   check_plan(plan_);
   check_profile(profile_);
   if (!(table_step_m > 0.0 && plan_.length() / table_step_m < kMaxTableNodes)) {
-    reject("route: table step {} m must be > 0 and give < {} nodes", table_step_m, kMaxTableNodes);
+    reject_argument("route: table step {} m must be > 0 and give < {} nodes", table_step_m,
+                    kMaxTableNodes);
   }
   knot_s_.reserve(plan_.curvature.size());
   knot_heading_.reserve(plan_.curvature.size());
@@ -275,32 +276,25 @@ RoutePoint Route::at(double s) const {
 }
 
 void VerticalProfileOptions::Check() const {
-  if (!(max_grade >= 0.0 && max_grade < 0.5))
-    reject("vertical profile: max_grade must be in [0, 0.5)");
-  if (!(max_crossfall >= 0.0 && max_crossfall < 0.5)) {
-    reject("vertical profile: max_crossfall must be in [0, 0.5)");
-  }
-  if (!(curve_bank_share >= 0.0 && curve_bank_share <= 1.0)) {
-    reject("vertical profile: curve_bank_share must be in [0, 1]");
-  }
-  if (!(min_grade_wavelength_m > 0.0 && min_grade_wavelength_m <= max_grade_wavelength_m)) {
-    reject("vertical profile: need 0 < min_grade_wavelength_m <= max_grade_wavelength_m");
-  }
-  if (!(min_crossfall_wavelength_m > 0.0 &&
-        min_crossfall_wavelength_m <= max_crossfall_wavelength_m)) {
-    reject("vertical profile: need 0 < min_crossfall_wavelength_m <= max_crossfall_wavelength_m");
-  }
+  const OptionsCheck check("VerticalProfileOptions");
+  check.in_range("max_grade", max_grade, 0.0, 0.5, Bounds::kOpenMax);
+  check.in_range("max_crossfall", max_crossfall, 0.0, 0.5, Bounds::kOpenMax);
+  check.probability("curve_bank_share", curve_bank_share);
+  check.positive("min_grade_wavelength_m", min_grade_wavelength_m);
+  check.ordered("min_grade_wavelength_m", min_grade_wavelength_m, "max_grade_wavelength_m",
+                max_grade_wavelength_m);
+  check.positive("min_crossfall_wavelength_m", min_crossfall_wavelength_m);
+  check.ordered("min_crossfall_wavelength_m", min_crossfall_wavelength_m,
+                "max_crossfall_wavelength_m", max_crossfall_wavelength_m);
   // Every route point sums all waves: a few make a natural profile, millions only stall.
-  if (waves < 1 || waves > 100)
-    reject("vertical profile: waves must be in [1, 100], got {}", waves);
+  check.in_range("waves", waves, 1, 100);
 }
 
 void RouteOptions::Check() const {
   plan.Check();
   vertical.Check();
   // Below a centimetre the table only costs memory (positions are exact at 2 m steps).
-  if (!(table_step_m >= 0.01 && table_step_m <= 10.0))
-    reject("route: table_step_m must be in [0.01, 10]");
+  OptionsCheck("RouteOptions").in_range("table_step_m", table_step_m, 0.01, 10.0);
 }
 
 VerticalProfile generate_vertical_profile(Random& rng, const VerticalProfileOptions& options) {

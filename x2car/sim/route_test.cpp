@@ -40,23 +40,6 @@ std::vector<CurvatureKnot> right_angle_turn(double radius) {
           {40.0 + 2.0 * transition + arc, 0.0}};
 }
 
-TEST(Scenario, NamesRoundTrip) {
-  for (Scenario scenario : kScenarios) {
-    EXPECT_EQ(scenario_from_string(to_string(scenario)), scenario);
-  }
-  EXPECT_EQ(to_string(Scenario::kHighway), "highway");
-}
-
-TEST(Scenario, UnknownNameListsTheValidOnes) {
-  try {
-    scenario_from_string("rural");
-    FAIL() << "no exception";
-  } catch (const std::invalid_argument& error) {
-    EXPECT_THAT(error.what(), ::testing::HasSubstr("'rural'"));
-    EXPECT_THAT(error.what(), ::testing::HasSubstr("straight, urban, highway, mixed"));
-  }
-}
-
 // The plan is built from the raw output of mt19937_64 (fixed by the C++ standard) with
 // arithmetic only, so its layout must be exactly this on every platform and standard library.
 TEST(Route, PlanIsTheSameOnEveryPlatform) {

@@ -8,10 +8,13 @@
 #include <stdexcept>
 #include <utility>
 
+#include "x2car/core/enum_names.hpp"
+#include "x2car/core/options_check.hpp"
+
 namespace x2car::sim {
 namespace {
 
-constexpr std::array<std::pair<Scenario, std::string_view>, 4> kScenarioNames = {{
+constexpr std::array<EnumName<Scenario>, 4> kScenarioNames{{
     {Scenario::kStraight, "straight"},
     {Scenario::kUrban, "urban"},
     {Scenario::kHighway, "highway"},
@@ -23,21 +26,6 @@ constexpr double kFinalStraight = 30.0;  // [m] so that the last turn or stop is
 constexpr double kRoundaboutEntryAngle = rad_from_deg(40.0);  // deflection to the right [rad]
 constexpr double kHighwayDriftLimit = kPi / 4.0;  // steer curves back beyond this drift [rad]
 constexpr double kLaneChangeMargin = 50.0;        // straight road kept before and after one [m]
-
-template <typename... Args>
-[[noreturn]] void reject(fmt::format_string<Args...> format, Args&&... args) {
-  throw std::invalid_argument(fmt::format(format, std::forward<Args>(args)...));
-}
-
-void check_range(const char* what, double low, double high) {
-  if (!(std::isfinite(low) && std::isfinite(high) && low > 0.0 && low <= high)) {
-    reject("{}: need 0 < min <= max, got [{}, {}]", what, low, high);
-  }
-}
-
-void check_probability(const char* what, double probability) {
-  if (!(probability >= 0.0 && probability <= 1.0)) reject("{} must be in [0, 1]", what);
-}
 
 // True with the given probability.
 bool chance(Random& rng, double probability) { return rng.uniform01() < probability; }
@@ -227,26 +215,21 @@ void append_mixed(PlanBuilder& builder, double end_s, Random& rng, const RoadPla
 
 }  // namespace
 
-std::string to_string(Scenario scenario) {
-  for (const auto& [value, name] : kScenarioNames) {
-    if (value == scenario) return std::string(name);
-  }
-  reject("unknown scenario value {}", static_cast<int>(scenario));
-}
+std::string to_string(Scenario scenario) { return enum_to_string(kScenarioNames, scenario); }
 
 Scenario scenario_from_string(std::string_view name) {
-  for (const auto& [value, known] : kScenarioNames) {
-    if (known == name) return value;
-  }
-  reject("unknown scenario '{}' (valid: straight, urban, highway, mixed)", name);
+  return enum_from_string(kScenarioNames, name, "scenario");
 }
 
+std::vector<std::string> scenario_names() { return enum_names(kScenarioNames); }
+
 void DrivingStyle::Check() const {
-  check_range("driving style: speed range [m/s]", min_speed_mps, max_speed_mps);
-  check_range("driving style: stretch length range [m]", min_stretch_m, max_stretch_m);
-  if (!(max_lateral_acceleration > 0.0 && std::isfinite(max_lateral_acceleration))) {
-    reject("driving style: max_lateral_acceleration must be > 0");
-  }
+  const OptionsCheck check("DrivingStyle");
+  check.positive("min_speed_mps", min_speed_mps);
+  check.ordered("min_speed_mps", min_speed_mps, "max_speed_mps", max_speed_mps);
+  check.positive("min_stretch_m", min_stretch_m);
+  check.ordered("min_stretch_m", min_stretch_m, "max_stretch_m", max_stretch_m);
+  check.positive("max_lateral_acceleration", max_lateral_acceleration);
 }
 
 DrivingStyle default_driving_style(Scenario road_kind) {
@@ -260,42 +243,53 @@ DrivingStyle default_driving_style(Scenario road_kind) {
     case Scenario::kMixed:
       break;
   }
-  reject("no driving style for road kind '{}' (use urban or highway)", to_string(road_kind));
+  reject_argument("no driving style for road kind '{}' (use urban or highway)",
+                  to_string(road_kind));
 }
 
 void UrbanPlanOptions::Check() const {
-  check_range("urban plan: block length [m]", min_block_m, max_block_m);
-  check_range("urban plan: turn radius [m]", min_turn_radius_m, max_turn_radius_m);
-  if (!(first_block_m > stop_line_gap_m && min_block_m > stop_line_gap_m && stop_line_gap_m >= 0)) {
-    reject("urban plan: blocks must be longer than stop_line_gap_m >= 0");
-  }
-  if (!(transition_fraction > 0.0 && transition_fraction < 1.0)) {
-    reject("urban plan: transition_fraction must be in (0, 1)");
-  }
-  check_probability("urban plan: turn_probability", turn_probability);
-  check_probability("urban plan: stop_probability", stop_probability);
-  check_probability("urban plan: roundabout_probability", roundabout_probability);
-  if (!(crossing_m > 0.0)) reject("urban plan: crossing_m must be > 0");
+  const OptionsCheck check("UrbanPlanOptions");
+  check.positive("min_block_m", min_block_m);
+  check.ordered("min_block_m", min_block_m, "max_block_m", max_block_m);
+  check.positive("min_turn_radius_m", min_turn_radius_m);
+  check.ordered("min_turn_radius_m", min_turn_radius_m, "max_turn_radius_m", max_turn_radius_m);
+  check.non_negative("stop_line_gap_m", stop_line_gap_m);
+  check.that(first_block_m > stop_line_gap_m, "first_block_m", "must be > stop_line_gap_m",
+             first_block_m);
+  check.that(min_block_m > stop_line_gap_m, "min_block_m", "must be > stop_line_gap_m",
+             min_block_m);
+  check.in_range("transition_fraction", transition_fraction, 0.0, 1.0, Bounds::kOpen);
+  check.probability("turn_probability", turn_probability);
+  check.probability("stop_probability", stop_probability);
+  check.probability("roundabout_probability", roundabout_probability);
+  check.positive("crossing_m", crossing_m);
 }
 
 void HighwayPlanOptions::Check() const {
-  check_range("highway plan: straight length [m]", min_straight_m, max_straight_m);
-  check_range("highway plan: curve radius [m]", min_curve_radius_m, max_curve_radius_m);
-  check_range("highway plan: curve angle [rad]", min_curve_angle, max_curve_angle);
-  check_range("highway plan: transition length [m]", min_transition_m, max_transition_m);
-  check_range("highway plan: lane change length [m]", min_lane_change_m, max_lane_change_m);
-  if (!(max_curve_angle < kPi / 2.0)) reject("highway plan: max_curve_angle must be < pi / 2");
-  check_probability("highway plan: lane_change_probability", lane_change_probability);
-  if (!(lane_width_m > 0.0)) reject("highway plan: lane_width_m must be > 0");
-  if (!(full_bank_radius_m > 0.0)) reject("highway plan: full_bank_radius_m must be > 0");
-  if (lanes < 2 || lanes > kMaxHighwayLanes) {
-    reject("highway plan: lanes must be in [2, {}], got {}", kMaxHighwayLanes, lanes);
-  }
+  const OptionsCheck check("HighwayPlanOptions");
+  check.positive("min_straight_m", min_straight_m);
+  check.ordered("min_straight_m", min_straight_m, "max_straight_m", max_straight_m);
+  check.positive("min_curve_radius_m", min_curve_radius_m);
+  check.ordered("min_curve_radius_m", min_curve_radius_m, "max_curve_radius_m", max_curve_radius_m);
+  check.positive("min_curve_angle", min_curve_angle);
+  check.ordered("min_curve_angle", min_curve_angle, "max_curve_angle", max_curve_angle);
+  check.in_range("max_curve_angle", max_curve_angle, 0.0, kPi / 2.0, Bounds::kOpen);
+  check.positive("min_transition_m", min_transition_m);
+  check.ordered("min_transition_m", min_transition_m, "max_transition_m", max_transition_m);
+  check.positive("min_lane_change_m", min_lane_change_m);
+  check.ordered("min_lane_change_m", min_lane_change_m, "max_lane_change_m", max_lane_change_m);
+  check.probability("lane_change_probability", lane_change_probability);
+  check.positive("lane_width_m", lane_width_m);
+  check.positive("full_bank_radius_m", full_bank_radius_m);
+  check.in_range("lanes", lanes, 2, kMaxHighwayLanes);
 }
 
 void MixedPlanOptions::Check() const {
-  check_range("mixed plan: urban section length [m]", min_urban_m, max_urban_m);
-  check_range("mixed plan: highway section length [m]", min_highway_m, max_highway_m);
+  const OptionsCheck check("MixedPlanOptions");
+  check.positive("min_urban_m", min_urban_m);
+  check.ordered("min_urban_m", min_urban_m, "max_urban_m", max_urban_m);
+  check.positive("min_highway_m", min_highway_m);
+  check.ordered("min_highway_m", min_highway_m, "max_highway_m", max_highway_m);
 }
 
 void RoadPlanOptions::Check() const {
@@ -308,9 +302,10 @@ RoadPlan generate_road_plan(Scenario scenario, double min_length_m, double initi
                             Random& rng, const RoadPlanOptions& options) {
   options.Check();
   if (!(min_length_m > 0.0 && min_length_m <= kMaxPlanLength)) {
-    reject("road plan: length must be in (0, {}] m, got {}", kMaxPlanLength, min_length_m);
+    reject_argument("road plan: length must be in (0, {}] m, got {}", kMaxPlanLength, min_length_m);
   }
-  if (!std::isfinite(initial_heading_enu)) reject("road plan: initial heading is not finite");
+  if (!std::isfinite(initial_heading_enu))
+    reject_argument("road plan: initial heading is not finite");
   PlanBuilder builder(initial_heading_enu);
   switch (scenario) {
     case Scenario::kStraight:

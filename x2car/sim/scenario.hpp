@@ -20,6 +20,7 @@ enum class Scenario { kStraight, kUrban, kHighway, kMixed };
 std::string to_string(Scenario scenario);  // "straight", "urban", "highway", "mixed"
 // Inverse of to_string; throws std::invalid_argument listing the valid names.
 Scenario scenario_from_string(std::string_view name);
+std::vector<std::string> scenario_names();  // the CLI's choices, in table order
 
 // ---- how the car is driven ------------------------------------------------------------------
 

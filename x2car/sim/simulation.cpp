@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "x2car/core/error.hpp"
+#include "x2car/core/options_check.hpp"
 #include "x2car/io/ins_csv.hpp"
 #include "x2car/io/text_lines.hpp"
 #include "x2car/sim/random.hpp"
@@ -112,23 +113,18 @@ Route drive(const SimulationOptions& options, VehicleStates& states) {
 std::vector<std::string> simulated_sensor_names() { return {"ins", "lidar", "radar", "camera"}; }
 
 void SimulationOptions::Check() const {
-  if (!(duration_s > 0.0) || !std::isfinite(duration_s)) {
-    throw std::invalid_argument("simulation: duration must be a positive number of seconds");
-  }
+  const OptionsCheck check("SimulationOptions");
+  check.positive("duration_s", duration_s);
   const std::vector<std::string> known = simulated_sensor_names();
-  if (sensors.empty()) throw std::invalid_argument("simulation: no sensors to simulate");
+  check.that(!sensors.empty(), "sensors", "must name at least one sensor");
   for (const auto& sensor : sensors) {
-    if (std::find(known.begin(), known.end(), sensor) == known.end()) {
-      throw std::invalid_argument(
-          "simulation: sensor '" + sensor +
-          "' is not simulated; the simulated sensors are: " + io::join(known));
-    }
+    check.that(std::find(known.begin(), known.end(), sensor) != known.end(), "sensors",
+               fmt::format("must be among the simulated sensors {} ('{}' is not)", io::join(known),
+                           sensor));
   }
-  if (!recorded_path.empty() && scenario == Scenario::kMixed) {
-    throw std::invalid_argument(
-        "simulation: a recorded path is driven on one kind of road; choose straight, urban or "
-        "highway, not mixed");
-  }
+  check.that(recorded_path.empty() || scenario != Scenario::kMixed, "scenario",
+             "must be straight, urban or highway with a recorded path (one kind of road), "
+             "not mixed");
   recorded.Check();
   route.Check();
   motion.Check();
@@ -140,11 +136,11 @@ void SimulationOptions::Check() const {
   camera.Check();
   // The layouts' track id fields: Conti 0-99, Delphi 0-63.
   const int max_ids = radar_layout == io::RadarLayout::kDelphi ? 64 : 100;
-  if (radar_layout != io::RadarLayout::kGeneric && radar.track_id_count > max_ids) {
-    throw std::invalid_argument(fmt::format(
-        "simulation: the {} radar layout holds {} track ids, radar.track_id_count is {}",
-        io::to_string(radar_layout), max_ids, radar.track_id_count));
-  }
+  check.that(
+      radar_layout == io::RadarLayout::kGeneric || radar.track_id_count <= max_ids,
+      "radar.track_id_count",
+      fmt::format("must be <= {} for the {} radar layout", max_ids, io::to_string(radar_layout)),
+      radar.track_id_count);
 }
 
 io::SensorMounting draw_mounting(const std::string& sensor, Random& random) {

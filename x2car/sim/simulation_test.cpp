@@ -17,16 +17,13 @@
 #include "x2car/io/pose_file.hpp"
 #include "x2car/io/radar_csv.hpp"
 #include "x2car/io/text_lines.hpp"
+#include "x2car/sim/test_drives.hpp"
 
 namespace x2car::sim {
 namespace {
 
 SimulationOptions short_urban_drive(std::uint64_t seed) {
-  SimulationOptions options;
-  options.scenario = Scenario::kUrban;
-  options.duration_s = 40.0;
-  options.seed = seed;
-  return options;
+  return testing::simulated_drive(Scenario::kUrban, 40.0, seed);
 }
 
 std::filesystem::path temp_folder(const std::string& name) {

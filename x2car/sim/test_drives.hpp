@@ -1,35 +1,117 @@
-// Constructed vehicle truth shared by the sensor-model tests (ins_model_test, radar_model_test,
-// radar_scene_test): drives simple enough that the expected measurements follow by hand.
+// The one test-data factory of the tests and benches (STYLE.md: "test data is synthesised by one
+// shared generator"): every simulated drive they use is described here, from the simulator's
+// options, and built by the simulator itself. Built into the x2car_test_support library.
+//
+//   simulated_drive        the options of a simulated drive (scenario, duration, seed, sensors)
+//   SimulatedLidarDrive    a simulated drive and its LiDAR, sweeps made on demand
+//   urban_radar_drive      a simulated urban drive with its radar scene (cached per seed)
+//   radar_scans / radar_detections   that drive seen by a radar at a chosen yaw
+//   constructed_radar_drive          an exact straight drive past chosen radar targets
+//   straight_drive         constructed vehicle truth: level, straight, constant speed
 #pragma once
 
 #include <Eigen/Geometry>
-#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
 
-#include "x2car/core/rotation.hpp"
+#include "x2car/io/ground_truth.hpp"
+#include "x2car/io/ins_csv.hpp"
+#include "x2car/io/radar_csv.hpp"
+#include "x2car/sim/radar_model.hpp"
+#include "x2car/sim/radar_scene.hpp"
+#include "x2car/sim/simulation.hpp"
 #include "x2car/sim/vehicle_state.hpp"
+
+namespace x2car::sim {
+class LidarSimulator;
+}
 
 namespace x2car::sim::testing {
 
+// ---- simulated drives ----------------------------------------------------------------------
+
+// The options of a simulated drive: everything else at the simulator's defaults.
+SimulationOptions simulated_drive(Scenario scenario, double duration_s, std::uint64_t seed,
+                                  std::vector<std::string> sensors = {"ins"});
+
+// As simulated_drive, with a LiDAR of `beams` beams (32, 64 or 128) among the sensors.
+SimulationOptions simulated_lidar_drive(Scenario scenario, double duration_s, int beams,
+                                        std::uint64_t seed,
+                                        std::vector<std::string> sensors = {"lidar"});
+
+// A simulated drive and its LiDAR, whose sweeps are made when asked for (thread-safe), as a folder
+// of files would be read. Movable; the LiDAR refers to parts that move with it.
+class SimulatedLidarDrive {
+ public:
+  explicit SimulatedLidarDrive(const SimulationOptions& drive);
+  SimulatedLidarDrive(SimulatedLidarDrive&&) noexcept;
+  SimulatedLidarDrive& operator=(SimulatedLidarDrive&&) noexcept;
+  ~SimulatedLidarDrive();
+
+  const Simulation& simulation() const;
+  const LidarSimulator& lidar() const;
+  const io::SensorMounting& truth() const;  // the LiDAR's true mounting
+  std::vector<double> sweep_times() const;  // start time of every sweep [s]
+
+ private:
+  struct Parts;
+  std::unique_ptr<Parts> parts_;
+};
+
+// ---- radar -----------------------------------------------------------------------------------
+
+// A simulated drive with its radar scene, shared by every mounting tried on it.
+struct RadarDrive {
+  Simulation simulation;
+  RadarScene scene;
+};
+
+// An urban drive of `duration_s` and its default radar scene (scene seed: seed + 1000), made once
+// per (seed, duration) and kept for the process (tests try many mountings on one drive).
+const RadarDrive& urban_radar_drive(std::uint64_t seed, double duration_s = 60.0);
+
+// The radar on the front bumper, 3.6 m ahead of the rear axle and 0.3 m left of the centre line.
+inline const Eigen::Vector3d kRadarLeverArm{3.6, 0.3, 0.5};
+
+// The drive seen by a radar at kRadarLeverArm, yawed by `yaw_deg` [deg] (no roll or pitch).
+std::vector<RadarScan> radar_scans(const RadarDrive& drive, double yaw_deg,
+                                   const RadarOptions& radar, std::uint64_t seed);
+// Their detections, as a radar reader returns them.
+std::vector<io::RadarDetection> radar_detections(const RadarDrive& drive, double yaw_deg,
+                                                 const RadarOptions& radar, std::uint64_t seed);
+
+// A target of the constructed drive: at `position` (world, the car starts at the origin heading
+// east) at time 0, moving with `velocity`, reported under `track_id` while `visible_from` <= t <=
+// `visible_to` and its range is within [min_range, max_range].
+struct ConstructedTarget {
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();  // [m]
+  Eigen::Vector2d velocity = Eigen::Vector2d::Zero();  // [m/s]
+  int track_id = 0;
+  double visible_from = 0.0;  // [s]
+  double visible_to = 1e9;    // [s]
+  double min_range = 5.0;     // [m]
+  double max_range = 70.0;    // [m]
+};
+
+struct ConstructedRadarDrive {
+  std::vector<io::InsRecord> ins;
+  std::vector<io::RadarDetection> detections;
+};
+
+// The car drives straight east at `speed` [m/s] for `duration_s`, INS at 100 Hz (mounted without
+// rotation), radar scans at 14 Hz, radar at yaw `radar_yaw` [rad] and kRadarLeverArm; the
+// detections are exact (no noise, no clutter).
+ConstructedRadarDrive constructed_radar_drive(double speed, double duration_s, double radar_yaw,
+                                              const std::vector<ConstructedTarget>& targets);
+
+// ---- constructed vehicle truth ---------------------------------------------------------------
+
 // Level straight drive at constant `speed` [m/s] along `heading_enu` [rad], from `start` (ENU [m])
 // at time 0, sampled at `rate_hz` for `duration_s` (both ends included): no yaw rate, no pitch.
-inline VehicleStates straight_drive(double duration_s, double speed, double heading_enu,
-                                    double rate_hz = 100.0,
-                                    const Eigen::Vector3d& start = Eigen::Vector3d::Zero()) {
-  const Eigen::Vector3d direction(std::cos(heading_enu), std::sin(heading_enu), 0.0);
-  VehicleStates states;
-  const int n = static_cast<int>(std::lround(duration_s * rate_hz)) + 1;
-  for (int i = 0; i < n; ++i) {
-    VehicleState s;
-    s.time = i / rate_hz;
-    s.world_from_vehicle =
-        make_transform(EulerAngles{0, 0, heading_enu}, start + direction * speed * s.time);
-    s.velocity_enu = direction * speed;
-    s.speed = speed;
-    s.heading_enu = heading_enu;
-    s.straight = true;
-    states.push_back(s);
-  }
-  return states;
-}
+VehicleStates straight_drive(double duration_s, double speed, double heading_enu,
+                             double rate_hz = 100.0,
+                             const Eigen::Vector3d& start = Eigen::Vector3d::Zero());
 
 }  // namespace x2car::sim::testing

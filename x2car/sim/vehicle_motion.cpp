@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include "x2car/core/options_check.hpp"
+
 namespace x2car::sim {
 namespace {
 
@@ -24,11 +26,6 @@ constexpr double kStraightMinSpeed = 1.0;  // [m/s], as VehicleState::straight s
 constexpr double kStraightMaxCurvature = 1e-4;  // [1/m]
 constexpr double kNodeMerge = 1e-6;             // profile nodes closer than this are one [m]
 constexpr int kReverseFitTries = 5;             // attempts to fit the final reversal into the log
-
-template <typename... Args>
-[[noreturn]] void reject(fmt::format_string<Args...> format, Args&&... args) {
-  throw std::invalid_argument(fmt::format(format, std::forward<Args>(args)...));
-}
 
 // Speed at distances u from where a drive starts (u[0] = 0) [m]: v >= 0 [m/s] with constant
 // acceleration between nodes (v^2 linear in u), and the time to stand on arrival at a node [s].
@@ -253,7 +250,7 @@ Timeline with_final_reversal(const Route& route, const Timeline& full_drive, Sce
     const Kinematics at_budget = full_drive.at(budget);
     const double s_stop = full_drive.at(budget - at_budget.s_dot / options.max_deceleration).s;
     if (full_drive.end_time() < budget || !(s_stop >= options.reverse_m && s_stop > 0.0)) {
-      reject(
+      reject_argument(
           "vehicle motion: no room to drive forwards and then reverse {} m in {} s on a {} m "
           "route",
           options.reverse_m, duration, route.length());
@@ -265,7 +262,8 @@ Timeline with_final_reversal(const Route& route, const Timeline& full_drive, Sce
     if (timeline.end_time() <= duration) return timeline;
     budget -= timeline.end_time() - duration;
   }
-  reject("vehicle motion: could not fit reversing {} m into {} s", options.reverse_m, duration);
+  reject_argument("vehicle motion: could not fit reversing {} m into {} s", options.reverse_m,
+                  duration);
 }
 
 Timeline plan_timeline(const Route& route, Scenario fallback, double duration,
@@ -276,7 +274,7 @@ Timeline plan_timeline(const Route& route, Scenario fallback, double duration,
     return with_final_reversal(route, timeline, fallback, duration, options, seed);
   }
   if (timeline.end_time() < duration) {
-    reject(
+    reject_argument(
         "vehicle motion: the {} m route ends after {} s, the log needs {} s (see "
         "route_length_for)",
         route.length(), timeline.end_time(), duration);
@@ -403,48 +401,34 @@ VehicleStates sample(const Route& route, const Timeline& timeline, double durati
   return states;
 }
 
-void check_positive(const char* name, double value) {
-  if (!(value > 0.0 && std::isfinite(value))) reject("vehicle motion: {} must be > 0", name);
-}
-
-void check_non_negative(const char* name, double value) {
-  if (!(value >= 0.0 && std::isfinite(value))) reject("vehicle motion: {} must be >= 0", name);
-}
-
 }  // namespace
 
 void VehicleMotionOptions::Check() const {
+  const OptionsCheck check("VehicleMotionOptions");
   // The body is integrated in 1 / (rate_hz * substeps) steps and every state is kept: outside
   // [1, 1000] Hz the substep count overflows or the states exhaust memory.
-  if (!(rate_hz >= 1.0 && rate_hz <= 1000.0))
-    reject("vehicle motion: rate_hz must be in [1, 1000]");
+  check.in_range("rate_hz", rate_hz, 1.0, 1000.0);
   straight_style.Check();
   urban_style.Check();
   highway_style.Check();
-  check_positive("max_acceleration", max_acceleration);
-  check_positive("max_deceleration", max_deceleration);
-  check_non_negative("min_stop_s", min_stop_s);
-  if (!(max_stop_s >= min_stop_s && std::isfinite(max_stop_s))) {
-    reject("vehicle motion: max_stop_s must be >= min_stop_s");
-  }
-  check_non_negative("start_standstill_s", start_standstill_s);
-  check_non_negative("reverse_m", reverse_m);
-  check_positive("reverse_speed_mps", reverse_speed_mps);
-  check_positive("reverse_acceleration", reverse_acceleration);
-  check_non_negative("gear_change_s", gear_change_s);
-  check_positive("wheelbase_m", wheelbase_m);
-  if (!(max_steering_angle > 0.0 && max_steering_angle < kPi / 2.0)) {
-    reject("vehicle motion: max_steering_angle must be in (0, pi/2)");
-  }
-  if (!(std::isfinite(roll_gain) && std::isfinite(pitch_gain) && std::isfinite(sideslip_gain))) {
-    reject("vehicle motion: roll_gain, pitch_gain and sideslip_gain must be finite");
-  }
-  check_positive("suspension_frequency_hz", suspension_frequency_hz);
-  check_positive("suspension_damping", suspension_damping);
+  check.positive("max_acceleration", max_acceleration);
+  check.positive("max_deceleration", max_deceleration);
+  check.non_negative("min_stop_s", min_stop_s);
+  check.ordered("min_stop_s", min_stop_s, "max_stop_s", max_stop_s);
+  check.non_negative("start_standstill_s", start_standstill_s);
+  check.non_negative("reverse_m", reverse_m);
+  check.positive("reverse_speed_mps", reverse_speed_mps);
+  check.positive("reverse_acceleration", reverse_acceleration);
+  check.non_negative("gear_change_s", gear_change_s);
+  check.positive("wheelbase_m", wheelbase_m);
+  check.in_range("max_steering_angle", max_steering_angle, 0.0, kPi / 2.0, Bounds::kOpen);
+  check.finite("roll_gain", roll_gain);
+  check.finite("pitch_gain", pitch_gain);
+  check.finite("sideslip_gain", sideslip_gain);
+  check.positive("suspension_frequency_hz", suspension_frequency_hz);
+  check.positive("suspension_damping", suspension_damping);
   // The speed profile has a node every profile_step_m along the whole route.
-  if (!(profile_step_m >= 0.01 && profile_step_m <= 10.0)) {
-    reject("vehicle motion: profile_step_m must be in [0.01, 10]");
-  }
+  check.in_range("profile_step_m", profile_step_m, 0.01, 10.0);
 }
 
 const DrivingStyle& driving_style(const VehicleMotionOptions& options, Scenario road_kind) {
@@ -458,12 +442,12 @@ const DrivingStyle& driving_style(const VehicleMotionOptions& options, Scenario 
     case Scenario::kMixed:
       break;
   }
-  reject("vehicle motion: no driving style for road kind '{}'", to_string(road_kind));
+  reject_argument("vehicle motion: no driving style for road kind '{}'", to_string(road_kind));
 }
 
 double route_length_for(Scenario scenario, double duration_s, const VehicleMotionOptions& options) {
   options.Check();
-  check_non_negative("duration_s", duration_s);
+  OptionsCheck("route_length_for").non_negative("duration_s", duration_s);
   const double max_speed =
       scenario == Scenario::kMixed
           ? std::max(options.urban_style.max_speed_mps, options.highway_style.max_speed_mps)
@@ -475,23 +459,24 @@ VehicleStates simulate_vehicle_motion(const Route& route, Scenario scenario, dou
                                       const VehicleMotionOptions& options, std::uint64_t seed) {
   options.Check();
   if (!(duration_s > 0.0 && duration_s * options.rate_hz < kMaxSamples)) {
-    reject("vehicle motion: duration {} s must be > 0 and give < {} samples", duration_s,
-           kMaxSamples);
+    reject_argument("vehicle motion: duration {} s must be > 0 and give < {} samples", duration_s,
+                    kMaxSamples);
   }
   if (route.sections().empty() && scenario == Scenario::kMixed) {
-    reject("vehicle motion: a mixed scenario needs a route with urban and highway sections");
+    reject_argument(
+        "vehicle motion: a mixed scenario needs a route with urban and highway sections");
   }
   const double max_curvature = route.max_abs_curvature(0.0, route.length());
   if (std::atan(options.wheelbase_m * max_curvature) > options.max_steering_angle) {
-    reject(
+    reject_argument(
         "vehicle motion: the route's curvature {} 1/m needs {} deg of steering, above the "
         "limit of {} deg",
         max_curvature, deg_from_rad(std::atan(options.wheelbase_m * max_curvature)),
         deg_from_rad(options.max_steering_angle));
   }
   if (!(options.reverse_m < route.length())) {
-    reject("vehicle motion: cannot reverse {} m on a {} m route", options.reverse_m,
-           route.length());
+    reject_argument("vehicle motion: cannot reverse {} m on a {} m route", options.reverse_m,
+                    route.length());
   }
   const Timeline timeline = plan_timeline(route, scenario, duration_s, options, seed);
   return sample(route, timeline, duration_s, options);
@@ -502,19 +487,20 @@ VehicleStates simulate_recorded_motion(const Route& route, std::span<const doubl
                                        const VehicleMotionOptions& options) {
   options.Check();
   if (times.size() < 2 || times.size() != arc_lengths.size() || times.front() != 0.0) {
-    reject("vehicle motion: a recorded pace needs >= 2 times from 0, one arc length each");
+    reject_argument("vehicle motion: a recorded pace needs >= 2 times from 0, one arc length each");
   }
   // As for a generated drive: a recording spanning years (a bad time stamp) must not exhaust
   // memory with its states.
   if (!(times.back() * options.rate_hz < kMaxSamples)) {
-    reject("vehicle motion: the recording's {} s give >= {} samples", times.back(), kMaxSamples);
+    reject_argument("vehicle motion: the recording's {} s give >= {} samples", times.back(),
+                    kMaxSamples);
   }
   Timeline timeline(arc_lengths.front());
   for (std::size_t i = 1; i < times.size(); ++i) {
     const double dt = times[i] - times[i - 1];
     const double ds = arc_lengths[i] - arc_lengths[i - 1];
     if (!(dt > 0.0) || !(ds >= 0.0) || arc_lengths[i] > route.length()) {
-      reject(
+      reject_argument(
           "vehicle motion: recorded times must increase and arc lengths must not decrease "
           "or pass the route's end (at {} s)",
           times[i]);
@@ -527,8 +513,8 @@ VehicleStates simulate_recorded_motion(const Route& route, std::span<const doubl
   }
   const double max_curvature = route.max_abs_curvature(0.0, route.length());
   if (std::atan(options.wheelbase_m * max_curvature) > options.max_steering_angle) {
-    reject("vehicle motion: the route's curvature {} 1/m is beyond the steering limit",
-           max_curvature);
+    reject_argument("vehicle motion: the route's curvature {} 1/m is beyond the steering limit",
+                    max_curvature);
   }
   return sample(route, timeline, times.back(), options);
 }

@@ -4,9 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 #include <vector>
 
@@ -343,21 +341,11 @@ TEST(VehicleMotion, RejectsWhatItCannotDrive) {
                std::invalid_argument);
 }
 
-// The longest route (highway, ~21 km) at the full rate: ~0.08 s in release on one core; asserted
-// < 0.5 s because machines vary, and only in optimised builds.
-TEST(VehicleMotionTiming, TenMinutesAt100HzTakeUnderHalfASecond) {
-  const auto start = std::chrono::steady_clock::now();
+// The longest route (highway, ~21 km) at the full rate; its speed is measured in
+// bench/sim_bench.cpp (BM_VehicleMotionTenMinutesHighway).
+TEST(VehicleMotion, TenMinutesAt100HzGiveEveryState) {
   const VehicleStates states = drive(Scenario::kHighway, 600.0, 1);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("[ timing   ] 10 min highway at 100 Hz (route + motion): %.3f s\n", seconds);
   EXPECT_EQ(states.size(), 60001u);
-#ifdef NDEBUG
-  EXPECT_LT(seconds, 0.5);
-#else
-  // Unoptimised and sanitizer builds run many times slower; their timing says nothing.
-  GTEST_SKIP() << "timing is asserted only in optimised builds";
-#endif
 }
 
 }  // namespace

@@ -8,62 +8,40 @@
 #include <stdexcept>
 #include <utility>
 
+#include "x2car/core/enum_names.hpp"
+#include "x2car/core/options_check.hpp"
 #include "x2car/sim/world_builder.hpp"
 
 namespace x2car::sim {
 namespace {
 
-template <typename... Args>
-[[noreturn]] void reject(fmt::format_string<Args...> format, Args&&... args) {
-  throw std::invalid_argument(fmt::format(format, std::forward<Args>(args)...));
-}
-
-void check_range(const char* name, double min, double max) {
-  if (!(std::isfinite(min) && std::isfinite(max) && min >= 0.0 && min <= max)) {
-    reject("world options: {} needs 0 <= min <= max", name);
-  }
-}
-
-void check_non_negative(const char* name, double value) {
-  if (!(value >= 0.0 && std::isfinite(value))) reject("world options: {} must be >= 0", name);
-}
-
-// Objects placed every `spacing` along the road: a tiny spacing makes millions of them per
-// kilometre (hours of generation or bad_alloc), so a spacing is 0 (none) or at least kMinSpacingM.
+// Objects placed along the road are 0 (none) or at least this far apart [m].
 constexpr double kMinSpacingM = 0.5;
-
-void check_spacing(const char* name, double value) {
-  if (!(std::isfinite(value) && (value == 0.0 || value >= kMinSpacingM))) {
-    reject("world options: {} must be 0 (none) or >= {} m", name, kMinSpacingM);
-  }
-}
-
-// Movers per kilometre of lane: busy traffic is ~100; more only exhausts memory.
+// Movers per kilometre of lane, at most.
 constexpr double kMaxMoversPerKm = 500.0;
-
-void check_density(const char* name, double value) {
-  if (!(value >= 0.0 && value <= kMaxMoversPerKm)) {
-    reject("world options: {} must be in [0, {}] per km", name, kMaxMoversPerKm);
-  }
-}
-
-// Movers' speeds: the traffic generator spreads them over what the fastest covers in the drive,
-// so an absurd speed means absurdly many movers (and an int overflow of their count).
+// Movers' speeds, at most [m/s].
 constexpr double kMaxMoverSpeedMps = 100.0;
-
-void check_share(const char* name, double value) {
-  if (!(value >= 0.0 && value <= 1.0)) reject("world options: {} must be in [0, 1]", name);
-}
 
 }  // namespace
 
-std::string_view to_string(ObjectKind kind) {
-  static constexpr std::array<std::string_view, 14> kNames = {
-      "road",       "lane_marking",    "curb",     "sidewalk", "terrain",
-      "guard_rail", "guard_rail_post", "building", "pole",     "traffic_sign",
-      "tree",       "parked_car",      "car",      "cyclist"};
-  return kNames.at(static_cast<std::size_t>(kind));
-}
+constexpr std::array<EnumName<ObjectKind>, 14> kObjectKindNames{{
+    {ObjectKind::kRoad, "road"},
+    {ObjectKind::kLaneMarking, "lane_marking"},
+    {ObjectKind::kCurb, "curb"},
+    {ObjectKind::kSidewalk, "sidewalk"},
+    {ObjectKind::kTerrain, "terrain"},
+    {ObjectKind::kGuardRail, "guard_rail"},
+    {ObjectKind::kGuardRailPost, "guard_rail_post"},
+    {ObjectKind::kBuilding, "building"},
+    {ObjectKind::kPole, "pole"},
+    {ObjectKind::kTrafficSign, "traffic_sign"},
+    {ObjectKind::kTree, "tree"},
+    {ObjectKind::kParkedCar, "parked_car"},
+    {ObjectKind::kCar, "car"},
+    {ObjectKind::kCyclist, "cyclist"},
+}};
+
+std::string_view to_string(ObjectKind kind) { return enum_to_string(kObjectKindNames, kind); }
 
 // Reflectivities at 905 nm from published LiDAR reflectance surveys (asphalt 0.05-0.2, white paint
 // 0.5-0.7, concrete 0.3-0.4, vegetation 0.4-0.6 in the near infrared, retro-reflective sheeting
@@ -103,49 +81,59 @@ Material standard_material(Surface surface) {
 }
 
 void RoadsideOptions::Check() const {
-  check_range("building length [m]", building_min_length_m, building_max_length_m);
-  check_range("building depth [m]", building_min_depth_m, building_max_depth_m);
-  check_range("building height [m]", building_min_height_m, building_max_height_m);
-  if (!(building_min_length_m > 0.0 && building_min_depth_m > 0.0 && building_min_height_m > 0.0)) {
-    reject("world options: building sizes must be > 0");
-  }
+  const OptionsCheck check("RoadsideOptions");
   // Buildings follow each other along the road, so their length is their spacing.
-  if (!(building_min_length_m >= 1.0)) reject("world options: building_min_length_m must be >= 1");
-  if (!(building_max_setback_m >= 0.5))
-    reject("world options: building_max_setback_m must be >= 0.5");
-  check_non_negative("building_max_gap_m", building_max_gap_m);
-  check_share("building_frontage", building_frontage);
-  check_non_negative("intersection_gap_m", intersection_gap_m);
-  check_spacing("pole_spacing_m", pole_spacing_m);
-  check_spacing("sign_spacing_m", sign_spacing_m);
-  check_spacing("tree_spacing_m", tree_spacing_m);
-  check_non_negative("parked_car_spacing_m", parked_car_spacing_m);
-  if (parked_car_spacing_m > 0.0 && parked_car_spacing_m < 5.5) {
-    reject("world options: parked_car_spacing_m must be 0 or >= 5.5 (a car is up to 5 m long)");
+  check.at_least("building_min_length_m", building_min_length_m, 1.0);
+  check.ordered("building_min_length_m", building_min_length_m, "building_max_length_m",
+                building_max_length_m);
+  check.positive("building_min_depth_m", building_min_depth_m);
+  check.ordered("building_min_depth_m", building_min_depth_m, "building_max_depth_m",
+                building_max_depth_m);
+  check.positive("building_min_height_m", building_min_height_m);
+  check.ordered("building_min_height_m", building_min_height_m, "building_max_height_m",
+                building_max_height_m);
+  check.at_least("building_max_setback_m", building_max_setback_m, 0.5);
+  check.non_negative("building_max_gap_m", building_max_gap_m);
+  check.probability("building_frontage", building_frontage);
+  check.non_negative("intersection_gap_m", intersection_gap_m);
+  // Objects placed every `spacing` along the road: a tiny spacing makes millions of them per
+  // kilometre (hours of generation or bad_alloc), so a spacing is 0 (none) or at least 0.5 m.
+  const std::string spacing_rule = fmt::format("must be 0 (none) or in [{:g}, inf)", kMinSpacingM);
+  for (const auto& [field, spacing] :
+       {std::pair{"pole_spacing_m", pole_spacing_m}, std::pair{"sign_spacing_m", sign_spacing_m},
+        std::pair{"tree_spacing_m", tree_spacing_m},
+        std::pair{"guard_rail_post_spacing_m", guard_rail_post_spacing_m}}) {
+    check.that(std::isfinite(spacing) && (spacing == 0.0 || spacing >= kMinSpacingM), field,
+               spacing_rule, spacing);
   }
-  check_share("parked_car_share", parked_car_share);
-  check_spacing("guard_rail_post_spacing_m", guard_rail_post_spacing_m);
+  check.that(std::isfinite(parked_car_spacing_m) &&
+                 (parked_car_spacing_m == 0.0 || parked_car_spacing_m >= 5.5),
+             "parked_car_spacing_m", "must be 0 (none) or >= 5.5 (a car is up to 5 m long)",
+             parked_car_spacing_m);
+  check.probability("parked_car_share", parked_car_share);
   // The terrain is a grid of cells across this width all along the road: bounded for memory.
-  if (!(terrain_half_width_m >= 0.0 && terrain_half_width_m <= 500.0)) {
-    reject("world options: terrain_half_width_m must be in [0, 500]");
-  }
-  if (!(terrain_cell_m >= 0.5 && terrain_cell_m <= 20.0)) {
-    reject("world options: terrain_cell_m must be in [0.5, 20]");
-  }
+  check.in_range("terrain_half_width_m", terrain_half_width_m, 0.0, 500.0);
+  check.in_range("terrain_cell_m", terrain_cell_m, 0.5, 20.0);
 }
 
 void TrafficOptions::Check() const {
-  check_density("oncoming_cars_per_km", oncoming_cars_per_km);
-  check_density("cyclists_per_km", cyclists_per_km);
-  check_density("highway_cars_per_km_lane", highway_cars_per_km_lane);
-  check_range("urban car speed [m/s]", urban_min_speed_mps, urban_max_speed_mps);
-  check_range("highway car speed [m/s]", highway_min_speed_mps, highway_max_speed_mps);
-  check_range("cyclist speed [m/s]", cyclist_min_speed_mps, cyclist_max_speed_mps);
-  if (!(std::max({urban_max_speed_mps, highway_max_speed_mps, cyclist_max_speed_mps}) <=
-        kMaxMoverSpeedMps)) {
-    reject("world options: mover speeds must be <= {} m/s", kMaxMoverSpeedMps);
-  }
-  check_non_negative("ego_clearance_m", ego_clearance_m);
+  const OptionsCheck check("TrafficOptions");
+  // Movers per kilometre of lane: busy traffic is ~100; more only exhausts memory.
+  check.in_range("oncoming_cars_per_km", oncoming_cars_per_km, 0.0, kMaxMoversPerKm);
+  check.in_range("cyclists_per_km", cyclists_per_km, 0.0, kMaxMoversPerKm);
+  check.in_range("highway_cars_per_km_lane", highway_cars_per_km_lane, 0.0, kMaxMoversPerKm);
+  // The traffic generator spreads movers over what the fastest covers in the drive, so an absurd
+  // speed means absurdly many movers (and an int overflow of their count).
+  check.non_negative("urban_min_speed_mps", urban_min_speed_mps);
+  check.in_range("urban_max_speed_mps", urban_max_speed_mps, urban_min_speed_mps,
+                 kMaxMoverSpeedMps);
+  check.non_negative("highway_min_speed_mps", highway_min_speed_mps);
+  check.in_range("highway_max_speed_mps", highway_max_speed_mps, highway_min_speed_mps,
+                 kMaxMoverSpeedMps);
+  check.non_negative("cyclist_min_speed_mps", cyclist_min_speed_mps);
+  check.in_range("cyclist_max_speed_mps", cyclist_max_speed_mps, cyclist_min_speed_mps,
+                 kMaxMoverSpeedMps);
+  check.non_negative("ego_clearance_m", ego_clearance_m);
 }
 
 void WorldOptions::Check() const {

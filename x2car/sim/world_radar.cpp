@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "x2car/core/options_check.hpp"
+
 namespace x2car::sim {
 namespace {
 
@@ -31,14 +33,12 @@ RadarMover radar_mover(const World& world, const MovingObject& mover, double sta
 }  // namespace
 
 void WorldRadarOptions::Check() const {
-  if (!(reflector_height_m >= 0.0 && std::isfinite(reflector_height_m))) {
-    throw std::invalid_argument("world radar options: reflector_height_m must be >= 0");
-  }
+  const OptionsCheck check("WorldRadarOptions");
+  check.non_negative("reflector_height_m", reflector_height_m);
   // Every mover is sampled this often over the whole drive: a period below a millisecond only
   // exhausts memory (radar scans are 50 ms apart).
-  if (!(mover_sample_period_s >= 1e-3 && std::isfinite(mover_sample_period_s))) {
-    throw std::invalid_argument("world radar options: mover_sample_period_s must be >= 0.001 s");
-  }
+  check.at_least("mover_sample_period_s", mover_sample_period_s, 1e-3);
+  check.finite("mover_sample_period_s", mover_sample_period_s);
 }
 
 bool is_radar_target(ObjectKind kind) {

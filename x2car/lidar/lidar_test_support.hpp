@@ -1,5 +1,6 @@
-// Simulated LiDAR drives for the LiDAR tests and benches: the sweeps of a drive made on demand
-// (SimulatedLidarDrive), and the odometry run on them against the simulator's truth.
+// The LiDAR engines run on the drives of the one test-data factory (sim/test_drives.hpp), for the
+// LiDAR tests and benches: a simulated drive's sweeps as the calibrator reads them, and the
+// odometry run on them against the simulator's truth.
 #pragma once
 
 #include <tbb/parallel_for.h>
@@ -11,57 +12,22 @@
 
 #include "x2car/lidar/lidar_calibration.hpp"
 #include "x2car/lidar/odometry.hpp"
-#include "x2car/lidar/odometry_error.hpp"
 #include "x2car/sim/lidar_model.hpp"
-#include "x2car/sim/simulation.hpp"
-#include "x2car/sim/world_scene.hpp"
+#include "x2car/sim/test_drives.hpp"
 
 namespace x2car::lidar::testing {
 
-inline sim::SimulationOptions simulated_lidar_drive(sim::Scenario scenario, double duration_s,
-                                                    int beams, std::uint64_t seed) {
-  sim::SimulationOptions options;
-  options.scenario = scenario;
-  options.duration_s = duration_s;
-  options.seed = seed;
-  options.sensors = {"lidar"};
-  options.lidar.beams = beams;
-  return options;
+using sim::testing::simulated_lidar_drive;
+using sim::testing::SimulatedLidarDrive;
+
+// The drive's sweeps as the calibrator reads them; valid while `drive` lives.
+inline SweepSource sweep_source(const SimulatedLidarDrive& drive) {
+  SweepSource source;
+  source.times = drive.sweep_times();
+  const sim::LidarSimulator* lidar = &drive.lidar();
+  source.read = [lidar](std::size_t index) { return lidar->sweep(index).cloud; };
+  return source;
 }
-
-// A simulated drive and its LiDAR, whose sweeps are made when asked for (thread-safe), as a folder
-// of files would be read.
-class SimulatedLidarDrive {
- public:
-  explicit SimulatedLidarDrive(const sim::SimulationOptions& drive)
-      : simulation_(sim::simulate(drive)),
-        scene_(simulation_.world),
-        lidar_(scene_, simulation_.states, truth().vehicle_from_sensor(),
-               simulation_.lidar->options, simulation_.lidar->seed) {}
-  // The scene and the LiDAR refer to the simulation's members: the drive stays where it was made.
-  SimulatedLidarDrive(const SimulatedLidarDrive&) = delete;
-  SimulatedLidarDrive& operator=(const SimulatedLidarDrive&) = delete;
-
-  const sim::LidarSimulator& lidar() const { return lidar_; }
-  const io::SensorMounting& truth() const {
-    return simulation_.truth.vehicle_from_sensor.at("lidar");
-  }
-
-  // The sweeps as the calibrator reads them; valid while this drive lives.
-  SweepSource source() const {
-    SweepSource source;
-    for (std::size_t i = 0; i < lidar_.sweep_count(); ++i) {
-      source.times.push_back(lidar_.sweep_start_time(i));
-    }
-    source.read = [this](std::size_t index) { return lidar_.sweep(index).cloud; };
-    return source;
-  }
-
- private:
-  sim::Simulation simulation_;
-  sim::WorldScene scene_;
-  sim::LidarSimulator lidar_;
-};
 
 struct OdometryRun {
   std::vector<OdometryStep> steps;
