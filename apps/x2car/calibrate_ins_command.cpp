@@ -68,13 +68,13 @@ RunCommand setup_calibrate_ins_command(CLI::App& command) {
                   "For a generic CSV: read its yaw/heading column as enu (counter-clockwise from "
                   "east) or azimuth (clockwise from north)")
       ->type_name("NAME")
-      ->check(CLI::IsMember({"enu", "azimuth"}));
+      ->check(CLI::IsMember(io::yaw_convention_names()));
   command
       .add_option("--angle-unit", arguments->angle_unit,
                   "For a generic CSV: unit of the roll, pitch and yaw/heading columns whose names "
                   "have no _deg or _rad suffix")
       ->type_name("UNIT")
-      ->check(CLI::IsMember({"rad", "deg"}))
+      ->check(CLI::IsMember(io::angle_unit_names()))
       ->capture_default_str();
   add_track_options(command, arguments->track, "samples");
   command.add_flag("--spline-velocity", arguments->spline_velocity,

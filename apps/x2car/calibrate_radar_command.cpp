@@ -40,6 +40,13 @@ radar::RadarCalibrationOptions calibration_options(const CalibrateRadarArguments
   return options;
 }
 
+// "auto" (the layout detected from the files) and every layout of the name table.
+std::vector<std::string> radar_layout_choices() {
+  std::vector<std::string> choices = {"auto"};
+  for (const std::string& name : io::radar_layout_names()) choices.push_back(name);
+  return choices;
+}
+
 io::RadarReadOptions read_options(const CalibrateRadarArguments& arguments) {
   io::RadarReadOptions options;
   if (arguments.layout != "auto") options.layout = io::radar_layout_from_string(arguments.layout);
@@ -88,14 +95,14 @@ RunCommand setup_calibrate_radar_command(CLI::App& command) {
                   "Layout of the radar files; auto tells conti, delphi and generic apart from the "
                   "files")
       ->type_name("NAME")
-      ->check(CLI::IsMember({"auto", "conti", "delphi", "generic"}))
+      ->check(CLI::IsMember(radar_layout_choices()))
       ->capture_default_str();
   command
       .add_option("--angle-unit", arguments->angle_unit,
                   "Unit of the generic CSV's azimuth and Delphi's bearing (conti has no angle "
                   "column)")
       ->type_name("UNIT")
-      ->check(CLI::IsMember({"rad", "deg"}))
+      ->check(CLI::IsMember(io::angle_unit_names()))
       ->capture_default_str();
   command
       .add_option("--method", arguments->method,
@@ -103,7 +110,7 @@ RunCommand setup_calibrate_radar_command(CLI::App& command) {
                   "objects over straight stretches; needs track ids) or auto (both; reports the "
                   "one chosen by agreement and support, and why)")
       ->type_name("NAME")
-      ->check(CLI::IsMember({"auto", "velocity", "position"}))
+      ->check(CLI::IsMember(radar::radar_method_names()))
       ->default_str(radar::to_string(radar::RadarCalibrationOptions{}.method));
   command
       .add_option("--lever-arm", arguments->lever_arm_m,

@@ -176,7 +176,7 @@ RunCommand setup_simulate_command(CLI::App& command) {
   const sim::SimulationOptions defaults;
   command.add_option("--scenario", arguments->scenario, "Kind of drive")
       ->type_name("NAME")
-      ->check(CLI::IsMember({"straight", "urban", "highway", "mixed"}))
+      ->check(CLI::IsMember(sim::scenario_names()))
       ->default_str(sim::to_string(defaults.scenario));
   command.add_option("--duration", arguments->duration_s, "Seconds of driving")
       ->type_name("SECONDS")
@@ -216,7 +216,7 @@ RunCommand setup_simulate_command(CLI::App& command) {
       .add_option("--lidar-format", arguments->lidar_format,
                   "LiDAR sweeps as pcd (binary PCD), kitti (velodyne .bin + times.txt) or both")
       ->type_name("NAME")
-      ->check(CLI::IsMember({"pcd", "kitti", "both"}))
+      ->check(CLI::IsMember(sim::lidar_file_format_names()))
       ->default_str(sim::to_string(defaults.lidar_format));
   command
       .add_option("--lidar-beams", arguments->lidar_beams,
@@ -229,7 +229,7 @@ RunCommand setup_simulate_command(CLI::App& command) {
                   "Radar as conti (ARS408-like scan files), delphi (ESR-like scan files, 20 Hz) or "
                   "generic (detections.csv)")
       ->type_name("NAME")
-      ->check(CLI::IsMember({"conti", "delphi", "generic"}))
+      ->check(CLI::IsMember(io::radar_layout_names()))
       ->capture_default_str();
   command
       .add_option("--trajectory", arguments->trajectory_path,

@@ -13,7 +13,7 @@ void add_track_options(CLI::App& command, TrackArguments& arguments, const std::
                   "Yaw reported: auto (smaller standard error), track_heading (the paper's) or "
                   "velocity_direction")
       ->type_name("NAME")
-      ->check(CLI::IsMember({"auto", "track_heading", "velocity_direction"}))
+      ->check(CLI::IsMember(yaw_method_names()))
       ->default_str(to_string(YawMethod::kAuto));
   command
       .add_option("--min-speed", arguments.min_speed_mps,
