@@ -68,6 +68,8 @@ Extrinsic autoware_child(const std::string& parent, const std::string& child,
     }
     if (!value.IsScalar()) throw InputError(where.file, where.line, where.field, "not a number");
     v[i] = parse_double(value.Scalar(), where);
+    check_plausible(v[i], i < 3 ? kExtrinsicMaxValue : kExtrinsicMaxRadians, value.Scalar(),
+                    i < 3 ? "m" : "rad", where, i < 3 ? "" : "Autoware angles are radians");
   }
   Extrinsic extrinsic{parent, child,
                       make_transform(EulerAngles{v[3], v[4], v[5]}, {v[0], v[1], v[2]})};

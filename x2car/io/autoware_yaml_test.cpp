@@ -53,6 +53,26 @@ TEST(ParseAutoware, NamesTheMissingOrBadField) {
   EXPECT_EQ(bad.line(), 4u);
 }
 
+// 1e308 rad used to be accepted and printed back as a rotation.
+TEST(ParseAutoware, ImplausibleNumbersAreErrorsAtTheirField) {
+  const InputError angle = input_error_of([] {
+    parse_autoware(
+        "base_link:\n  lidar:\n    x: 1\n    y: 0\n    z: 2\n    roll: 1e308\n"
+        "    pitch: 0\n    yaw: 90\n",
+        "k.yaml");
+  });
+  EXPECT_EQ(angle.field(), "lidar.roll");
+  EXPECT_EQ(angle.line(), 6u);
+  EXPECT_THAT(angle.what(), HasSubstr("Autoware angles are radians"));
+  EXPECT_EQ(input_error_of([] {
+              parse_autoware(
+                  "base_link:\n  lidar:\n    x: 1\n    y: 0\n    z: 2e5\n    roll: 0\n"
+                  "    pitch: 0\n    yaw: 0\n",
+                  "k.yaml");
+            }).field(),
+            "lidar.z");
+}
+
 TEST(FormatAutoware, SeveralChildrenUnderOneParentReadBack) {
   Extrinsic radar = sample_extrinsic();
   radar.child_frame = "radar: front";  // needs quoting in YAML

@@ -74,7 +74,9 @@ std::vector<double> parse_tokens(std::span<const Token> tokens, const NumberLayo
   }
   std::vector<double> values(tokens.size());
   for (std::size_t i = 0; i < tokens.size(); ++i) {
-    values[i] = parse_double(tokens[i].text, {source, tokens[i].line, names[i]});
+    const FieldLocation where{source, tokens[i].line, names[i]};
+    values[i] = parse_double(tokens[i].text, where);
+    check_plausible(values[i], kExtrinsicMaxValue, tokens[i].text, "", where);
   }
   return values;
 }
@@ -218,7 +220,12 @@ std::string format_xyzrpy(const Extrinsic& extrinsic, AngleUnit unit) {
 
 Extrinsic parse_xyzrpy(std::string_view text, AngleUnit unit, const std::string& source_name) {
   static const NumberLayout kLayout = named_numbers({"x", "y", "z", "roll", "pitch", "yaw"});
-  const std::vector<double> v = parse_tokens(number_tokens(text), kLayout, source_name);
+  const std::vector<Token> tokens = number_tokens(text);
+  const std::vector<double> v = parse_tokens(tokens, kLayout, source_name);
+  for (std::size_t i = 3; i < 6 && unit == AngleUnit::kRadians; ++i) {
+    check_plausible(v[i], kExtrinsicMaxRadians, tokens[i].text, "rad",
+                    {source_name, tokens[i].line, kLayout.names[i]}, "degrees? use xyzrpy-deg");
+  }
   const auto radians = [unit](double value) {
     return unit == AngleUnit::kDegrees ? rad_from_deg(value) : value;
   };

@@ -228,6 +228,14 @@ TEST(ParseXyzRpy, CountsAndFieldsAreChecked) {
               HasSubstr("expected 6 numbers (x y z roll pitch yaw), found 5"));
   EXPECT_EQ(input_error_of([] { parse_xyzrpy("1 2 3 4 nan 6", AngleUnit::kRadians, "e"); }).field(),
             "pitch");
+  const InputError degrees =
+      input_error_of([] { parse_xyzrpy("1 2 3 0 0 90", AngleUnit::kRadians, "e"); });
+  EXPECT_EQ(degrees.field(), "yaw");
+  EXPECT_THAT(degrees.what(), HasSubstr("use xyzrpy-deg"));
+  EXPECT_NO_THROW(parse_xyzrpy("1 2 3 0 0 90", AngleUnit::kDegrees, "e"));
+  EXPECT_EQ(
+      input_error_of([] { parse_xyzrpy("1e308 2 3 0 0 0", AngleUnit::kDegrees, "e"); }).field(),
+      "x");
 }
 
 // ---- detection --------------------------------------------------------------------------------

@@ -172,7 +172,7 @@ Layout parse_header(const TextLine& header, const InsCsvOptions& options,
   for (std::size_t i = 0; i < names.size(); ++i) {
     std::optional<std::pair<Slot, Column>> match = match_column(names[i], i, options);
     if (!match) {  // unknown columns are ignored, and named in a notice
-      layout.ignored.push_back(fmt::format("'{}' ({})", names[i], i + 1));
+      layout.ignored.push_back(fmt::format("{} ({})", quote_field(names[i]), i + 1));
       continue;
     }
     std::optional<Column>& column = layout.columns[index_of(match->first)];
@@ -214,12 +214,6 @@ struct ParsedRow {
   GeodeticPosition geodetic;
 };
 
-// Plausibility bounds of a row's values: far beyond any drive, close enough that a corrupt number
-// is caught at its line instead of overflowing a computation later.
-constexpr double kMaxPosition = 1e8;  // [m] of an ENU coordinate (UTM northings are below 1e7)
-constexpr double kMaxAltitude = 1e5;  // [m] above or below the WGS84 ellipsoid
-constexpr double kMaxSpeed = 1e3;     // [m/s] of a velocity component (3600 km/h)
-
 ParsedRow parse_row(const TextLine& line, const Layout& layout, const std::string& source) {
   const std::vector<std::string_view> fields = split_exact_fields(
       line, layout.field_count, source,
@@ -232,27 +226,24 @@ ParsedRow parse_row(const TextLine& line, const Layout& layout, const std::strin
   // reported downstream as "4912 reversing").
   const auto angle = [&](Slot s) {
     const double radians = value(s);
-    if (std::abs(radians) > 2.0 * kPi) {
+    if (std::abs(radians) > kInsMaxAngle) {
       const std::string_view text = fields[layout[s]->index];
       throw InputError(
           source, line.number, layout[s]->name,
           layout[s]->scale == 1.0
               ? fmt::format("{} is beyond +-2 pi, so not an angle in radians; if the column "
-                            "holds degrees, name it '{}_deg' or pass --angle-unit deg",
+                            "holds degrees, name it '{}_deg' (or read angles in degrees: "
+                            "calibrate ins --angle-unit deg)",
                             text, layout[s]->alias)
               : fmt::format("{} deg is beyond +-360 deg, not an angle", text));
     }
     return radians;
   };
   // Values no car's device reports (issue 11: 1e308 travelled on and came back as a 309-digit
-  // number): kMaxPosition, kMaxSpeed, kMaxAltitude.
+  // number).
   const auto bounded = [&](Slot s, double limit, const char* unit) {
     const double v = value(s);
-    if (std::abs(v) > limit) {
-      throw InputError(source, line.number, layout[s]->name,
-                       fmt::format("{} {} is beyond +-{} {}: not a plausible value",
-                                   fields[layout[s]->index], unit, format_number(limit), unit));
-    }
+    check_plausible(v, limit, fields[layout[s]->index], unit, where(s));
     return v;
   };
   ParsedRow row;
@@ -264,19 +255,21 @@ ParsedRow parse_row(const TextLine& line, const Layout& layout, const std::strin
   }
   if (layout.geodetic) {
     row.geodetic = {value(Slot::kLat), bounded(Slot::kLon, 360.0, "deg"),
-                    bounded(Slot::kAlt, kMaxAltitude, "m")};
+                    bounded(Slot::kAlt, kInsMaxAltitude, "m")};
     if (std::abs(row.geodetic.latitude_deg) > 90.0) {
       throw InputError(source, line.number, layout[Slot::kLat]->name,
                        fmt::format("latitude {} deg is outside [-90, 90]",
                                    format_number(row.geodetic.latitude_deg)));
     }
   } else {
-    r.position_enu = {bounded(Slot::kX, kMaxPosition, "m"), bounded(Slot::kY, kMaxPosition, "m"),
-                      bounded(Slot::kZ, kMaxPosition, "m")};
+    r.position_enu = {bounded(Slot::kX, kInsMaxPosition, "m"),
+                      bounded(Slot::kY, kInsMaxPosition, "m"),
+                      bounded(Slot::kZ, kInsMaxPosition, "m")};
   }
   if (layout[Slot::kVe]) {
-    r.velocity_enu = {bounded(Slot::kVe, kMaxSpeed, "m/s"), bounded(Slot::kVn, kMaxSpeed, "m/s"),
-                      bounded(Slot::kVu, kMaxSpeed, "m/s")};
+    r.velocity_enu = {bounded(Slot::kVe, kInsMaxSpeed, "m/s"),
+                      bounded(Slot::kVn, kInsMaxSpeed, "m/s"),
+                      bounded(Slot::kVu, kInsMaxSpeed, "m/s")};
   }
   const double roll = angle(Slot::kRoll), pitch = angle(Slot::kPitch), yaw = angle(Slot::kYaw);
   r.attitude = {roll, pitch, layout.yaw_is_azimuth ? heading_enu_from_azimuth(yaw) : yaw};

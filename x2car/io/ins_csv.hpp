@@ -45,6 +45,12 @@ struct InsRecord {
   int status = 0;
 };
 
+// Plausibility bounds of the GNSS/INS readers (check_plausible): far beyond any drive.
+constexpr double kInsMaxPosition = 1e8;  // [m] of an ENU coordinate (UTM northings are below 1e7)
+constexpr double kInsMaxAltitude = 1e5;  // [m] above or below the WGS84 ellipsoid
+constexpr double kInsMaxSpeed = 1e3;     // [m/s] of a velocity component (3600 km/h)
+constexpr double kInsMaxAngle = 2.0 * kPi;  // [rad] of roll, pitch or yaw
+
 // How a heading column counts its angle.
 enum class YawConvention {
   kEnu,      // counter-clockwise from east (x2car's yaw; ROS, KITTI OXTS)

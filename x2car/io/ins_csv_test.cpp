@@ -267,6 +267,8 @@ TEST(InsCsvColumns, SemicolonSeparatedFilesAreRead) {
   EXPECT_EQ(log.records[0].attitude.yaw, 0.3);
   const InputError error = expect_csv_error("time;x;y;z;roll;pitch;yaw\n0;1;2;3;0;0\n", 2);
   EXPECT_THAT(error.what(), HasSubstr("semicolon-separated"));
+  const InputError comma = expect_csv_error("time;x;y;z;roll;pitch;yaw\n0;1,5;2;3;0;0;0\n", 2, "x");
+  EXPECT_THAT(comma.what(), HasSubstr("'1,5' (x2car reads decimal points, not commas)"));
 }
 
 // Degrees in a column read as radians used to reach the calibrator ("4912 reversing").
@@ -280,6 +282,17 @@ TEST(InsCsvErrors, AnglesBeyondTwoPiSuggestTheDegreeSuffix) {
   expect_csv_error(header + "0,0,0,0,-7,0,0\n", 2, "roll");
   expect_csv_error("time,x,y,z,roll,pitch_deg,yaw\n0,0,0,0,0,400,0\n", 2, "pitch_deg");
   EXPECT_NO_THROW(parse(header + "0,0,0,0,-6.28,6.28,3.2\n"));
+}
+
+// 1e308 in a position or velocity used to travel on to the calibrator and come back in a message as
+// a 309-digit number.
+TEST(InsCsvErrors, ImplausibleValuesAreRejectedAtTheirLine) {
+  const InputError position =
+      expect_csv_error("time,x,y,z,roll,pitch,yaw\n0,0,1e308,0,0,0,0\n", 2, "y");
+  EXPECT_THAT(position.what(), HasSubstr("'1e308' m is beyond +-100000000 m"));
+  expect_csv_error("time,x,y,z,vx,vy,vz,roll,pitch,yaw\n0,0,0,0,0,0,-2000,0,0,0\n", 2, "vz");
+  expect_csv_error("time,lat,lon,alt,roll,pitch,yaw\n0,49,8,2e5,0,0,0\n", 2, "alt");
+  EXPECT_NO_THROW(parse("time,x,y,z,vx,vy,vz,roll,pitch,yaw\n0,5e6,-9e7,4e3,70,-70,3,0,0,0\n"));
 }
 
 // Relative times then Unix ones used to fail later as a P-spline "knot intervals" error.

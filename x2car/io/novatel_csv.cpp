@@ -143,6 +143,12 @@ ParsedRow parse_row(const TextLine& line, const std::string& source) {
   }
   std::array<double, 10> v{};
   for (std::size_t i = 1; i <= 10; ++i) v[i - 1] = parse_double(f[i], where(i));
+  for (std::size_t i = 2; i <= 4; ++i)
+    check_plausible(v[i - 1], kInsMaxPosition, f[i], "m", where(i));
+  for (std::size_t i = 5; i <= 7; ++i)
+    check_plausible(v[i - 1], kInsMaxSpeed, f[i], "m/s", where(i));
+  for (std::size_t i = 8; i <= 10; ++i)
+    check_plausible(v[i - 1], kInsMaxAngle, f[i], "rad", where(i));
   ParsedRow row{*ns, {}};
   row.record.position_enu = {v[1], v[2], v[3]};
   row.record.velocity_enu = {v[5], v[4], v[6]};  // the file has north, east, up

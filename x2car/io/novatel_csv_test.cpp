@@ -172,6 +172,15 @@ TEST(NovatelCsv, NanIsRejected) {
                        "azimuth");
 }
 
+TEST(NovatelCsv, ImplausibleValuesAreRejectedAtTheirField) {
+  const std::string head = kHeader;
+  expect_novatel_error(head + "2026-06-01 10:00:00,1,2,1e308,4,0,0,0,0,0,0,4\n", 2, "y_north");
+  expect_novatel_error(head + "2026-06-01 10:00:00,1,2,3,4,0,5000,0,0,0,0,4\n", 2, "v_east");
+  const InputError degrees =
+      expect_novatel_error(head + "2026-06-01 10:00:00,1,2,3,4,0,0,0,0,0,271.5,4\n", 2, "azimuth");
+  EXPECT_THAT(degrees.what(), HasSubstr("'271.5' rad is beyond"));
+}
+
 TEST(NovatelCsv, UnparsableDateIsRejected) {
   const InputError error = expect_novatel_error(
       std::string(kHeader) + kRow0 + "2026-06-31 10:00:00.02,1,2,3,4,0,0,0,0,0,0,4\n", 3,

@@ -72,7 +72,7 @@ class HeaderParser {
         check(size_count, type_count, counts, points);
         return header_;
       } else {
-        fail("", "unknown header keyword '{}'", key);
+        fail("", "unknown header keyword {}", quote_field(key));
       }
     }
     throw InputError(file_, "the header has no DATA line (the file is empty or truncated)");

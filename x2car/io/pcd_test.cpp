@@ -181,6 +181,14 @@ TEST(Pcd, HugeCountIsRefusedAtTheCountLine) {
   EXPECT_THAT(error.what(), HasSubstr("'pad'"));
 }
 
+// A binary file's first "keyword" used to be printed raw, control bytes and all.
+TEST(Pcd, BinaryGarbageIsQuotedPrintably) {
+  const std::string garbage = std::string("\x03\x8d\x1a\x31 4 4\n", 9);
+  const InputError error =
+      expect_input_error([&] { parse_pcd(garbage, "garbage.pcd"); }, "garbage.pcd", 1);
+  EXPECT_THAT(error.what(), HasSubstr("unknown header keyword '\\x03\\x8d\\x1a1'"));
+}
+
 TEST(Pcd, TruncatedAsciiDataSaysHowManyPointsCame) {
   const std::string text =
       "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 3\nHEIGHT 1\nDATA ascii\n"

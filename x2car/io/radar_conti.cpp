@@ -25,7 +25,7 @@ ContiColumns parse_header(const TextLine& line, const std::string& source) {
   for (std::size_t i = 0; i < kRequired.size(); ++i) {
     if (i >= names.size() || names[i] != kRequired[i]) {
       const std::string found =
-          i < names.size() ? fmt::format("is '{}'", names[i]) : std::string("is missing");
+          i < names.size() ? "is " + quote_field(names[i]) : std::string("is missing");
       throw InputError(source, line.number, field_index(i),
                        fmt::format("expected a header starting with "
                                    "'time_ns,track_id,vx,vy,px,py': column {} {}, expected '{}'",
@@ -40,7 +40,7 @@ ContiColumns parse_header(const TextLine& line, const std::string& source) {
     } else if (names[i] == "meas_state") {
       columns.meas_state = i;
     } else {
-      columns.ignored.push_back(fmt::format("'{}' ({})", names[i], i + 1));
+      columns.ignored.push_back(fmt::format("{} ({})", quote_field(names[i]), i + 1));
     }
   }
   return columns;
@@ -60,7 +60,7 @@ StampedRadarDetection parse_row(const TextLine& line, const ContiColumns& column
   d.track_id = parse_radar_track_id(f[1], where(1), kContiMaxTrackId);
   const auto bounded = [&](std::size_t i, double limit, const char* unit) {
     const double v = parse_double(f[i], where(i));
-    check_radar_bound(v, limit, f[i], unit, where(i));
+    check_plausible(v, limit, f[i], unit, where(i));
     return v;
   };
   d.has_velocity = true;

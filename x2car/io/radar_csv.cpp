@@ -59,7 +59,7 @@ GenericColumns parse_generic_header(const TextLine& line, const std::string& sou
     }
     if (std::find(kGenericColumns.begin(), kGenericColumns.end(), names[i]) ==
         kGenericColumns.end()) {
-      columns.ignored.push_back(fmt::format("'{}' ({})", names[i], i + 1));
+      columns.ignored.push_back(fmt::format("{} ({})", quote_field(names[i]), i + 1));
     }
   }
   for (const char* required : {"time", "range", "azimuth", "range_rate"}) {
@@ -106,19 +106,19 @@ RadarDetection parse_generic_row(const TextLine& line, const GenericColumns& col
     throw InputError(source, line.number, "range",
                      fmt::format("range must not be negative, found {}", f[columns.at("range")]));
   }
-  check_radar_bound(d.range, kRadarMaxRange, f[columns.at("range")], "m", where("range"));
+  check_plausible(d.range, kRadarMaxRange, f[columns.at("range")], "m", where("range"));
   d.azimuth = number("azimuth");
   if (columns.azimuth_unit == AngleUnit::kDegrees) d.azimuth = rad_from_deg(d.azimuth);
   check_radar_azimuth(d.azimuth, f[columns.at("azimuth")], columns.azimuth_unit, where("azimuth"));
   d.range_rate = number("range_rate");
-  check_radar_bound(d.range_rate, kRadarMaxSpeed, f[columns.at("range_rate")], "m/s",
-                    where("range_rate"));
+  check_plausible(d.range_rate, kRadarMaxSpeed, f[columns.at("range_rate")], "m/s",
+                  where("range_rate"));
   if (columns.has("track_id")) {
     d.track_id = parse_generic_track_id(f[columns.at("track_id")], where("track_id"));
   }
   const auto bounded = [&](std::string_view name, double limit, const char* unit) {
     const double v = number(name);
-    check_radar_bound(v, limit, f[columns.at(name)], unit, where(name));
+    check_plausible(v, limit, f[columns.at(name)], unit, where(name));
     return v;
   };
   d.x = columns.has("x") ? bounded("x", kRadarMaxRange, "m") : d.range * std::cos(d.azimuth);
@@ -190,14 +190,6 @@ InputError with_layout_hint(const InputError& error, const std::filesystem::path
 }
 
 }  // namespace
-
-void check_radar_bound(double value, double limit, std::string_view text, std::string_view unit,
-                       const FieldLocation& where) {
-  if (std::abs(value) <= limit) return;
-  throw InputError(where.file, where.line, where.field,
-                   fmt::format("{} {} is beyond +-{} {}: not a plausible value", text, unit,
-                               format_number(limit), unit));
-}
 
 void check_radar_azimuth(double azimuth, std::string_view text, AngleUnit unit,
                          const FieldLocation& where) {

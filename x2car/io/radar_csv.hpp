@@ -160,10 +160,6 @@ RadarLog parse_radar_csv(std::string_view text, const std::string& source_name,
 constexpr double kRadarMaxRange = 1e4;  // [m] of a range or a position coordinate
 constexpr double kRadarMaxSpeed = 1e3;  // [m/s] of a range rate or a velocity component
 
-// Throws InputError at `where` when |value| > limit, showing `text` as written and the `unit`.
-void check_radar_bound(double value, double limit, std::string_view text, std::string_view unit,
-                       const FieldLocation& where);
-
 // Throws InputError unless `azimuth` [rad] lies within +-pi (a small rounding margin allowed): a
 // larger value is most likely in degrees. `unit` is what the layout read it as; the message shows
 // `text` as written and, for radians, suggests --angle-unit deg.

@@ -428,6 +428,11 @@ TEST(RadarPlausibility, NegativeRangesAndAzimuthsBeyondPiAreErrorsWithAHint) {
   expect_input_error([&] { parse_radar_csv(head + "0,10,270,0\n", "r.csv", AngleUnit::kDegrees); },
                      "r.csv", 2, "azimuth");
   expect_delphi_error("1780308000000000000,5,10,0,-5,0,3,30,10,3,0,0,0,0,-5\n", 1, "bearing");
+  expect_delphi_error("1780308000000000000,5,10,0,-5,0,3,0,1e5,3,0,0,0,0,-5\n", 1, "range");
+  expect_conti_error(std::string(kContiHead) + "1780308000000000000,3,1,2,1e308,4,5,1\n", 2, "px");
+  expect_conti_error(std::string(kContiHead) + "1780308000000000000,3,-2e3,2,3,4,5,1\n", 2, "vx");
+  expect_input_error([&] { parse_radar_csv(head + "0,10,0.5,-1e300\n", "r.csv"); }, "r.csv", 2,
+                     "range_rate");
   const std::vector<StampedRadarDetection> rows = parse_delphi_scan(
       "1780308000000000000,5,10,0,-5,0,3,30,10,3,0,0,0,0,-5\n", "d.csv", AngleUnit::kDegrees);
   ASSERT_EQ(rows.size(), 1u);

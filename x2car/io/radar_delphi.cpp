@@ -72,10 +72,10 @@ std::optional<StampedRadarDetection> parse_row(const TextLine& line, const std::
                      fmt::format("range must not be negative, found {}", f[kRange]));
   }
   for (const std::size_t i : {kX, kY, kRange}) {
-    check_radar_bound(v[i], kRadarMaxRange, f[i], "m", where(i));
+    check_plausible(v[i], kRadarMaxRange, f[i], "m", where(i));
   }
   for (const std::size_t i : {kVx, kVy, kRangeRate}) {
-    check_radar_bound(v[i], kRadarMaxSpeed, f[i], "m/s", where(i));
+    check_plausible(v[i], kRadarMaxSpeed, f[i], "m/s", where(i));
   }
   if (bearing_unit == AngleUnit::kDegrees) v[kBearing] = rad_from_deg(v[kBearing]);
   check_radar_azimuth(v[kBearing], f[kBearing], bearing_unit, where(kBearing));

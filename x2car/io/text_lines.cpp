@@ -31,12 +31,7 @@ bool keep_line(std::string_view line, const LineOptions& options) {
   return true;
 }
 
-// Fields are quoted as the user wrote them, shortened so that a binary file gives a short message.
-std::string quoted(std::string_view text) {
-  constexpr std::size_t kMaxShown = 40;
-  if (text.size() <= kMaxShown) return fmt::format("'{}'", text);
-  return fmt::format("'{}...'", text.substr(0, kMaxShown));
-}
+std::string quoted(std::string_view text) { return quote_field(text); }
 
 InputError field_error(const FieldLocation& where, const std::string& message) {
   return InputError(where.file, where.line, where.field, message);
@@ -95,6 +90,20 @@ std::vector<TextLine> split_lines(std::string_view text, const LineOptions& opti
 std::size_t line_number_at(std::string_view text, std::size_t offset) {
   const std::string_view before = text.substr(0, offset);
   return 1 + static_cast<std::size_t>(std::count(before.begin(), before.end(), '\n'));
+}
+
+std::string quote_field(std::string_view text) {
+  constexpr std::size_t kMaxShown = 40;
+  std::string shown;
+  for (const char c : text.substr(0, kMaxShown)) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte >= 0x20 && byte < 0x7f) {
+      shown += c;
+    } else {
+      shown += fmt::format("\\x{:02x}", byte);
+    }
+  }
+  return fmt::format("'{}{}'", shown, text.size() > kMaxShown ? "..." : "");
 }
 
 std::string_view trim(std::string_view text) {
@@ -182,7 +191,10 @@ double parse_double(std::string_view text, const FieldLocation& where, NonFinite
     throw field_error(where, fmt::format("number {} is out of range", quoted(text)));
   }
   if (error != std::errc() || end != digits.data() + digits.size()) {
-    throw field_error(where, fmt::format("not a number: {}", quoted(text)));
+    const bool decimal_comma = text.find(',') != text.npos;
+    throw field_error(
+        where, fmt::format("not a number: {}{}", quoted(text),
+                           decimal_comma ? " (x2car reads decimal points, not commas)" : ""));
   }
   if (non_finite == NonFinite::kReject && !std::isfinite(value)) {
     // Said without echoing "nan": a NaN in a message reads as a computation gone wrong.
@@ -191,6 +203,15 @@ double parse_double(std::string_view text, const FieldLocation& where, NonFinite
                                  : fmt::format("{} is not a finite number", quoted(text)));
   }
   return value;
+}
+
+void check_plausible(double value, double limit, std::string_view text, std::string_view unit,
+                     const FieldLocation& where, std::string_view hint) {
+  if (std::abs(value) <= limit) return;
+  const std::string spaced_unit = unit.empty() ? std::string() : " " + std::string(unit);
+  throw field_error(where, fmt::format("{}{} is beyond +-{}{}: not a plausible value{}{}",
+                                       quote_field(text), spaced_unit, format_number(limit),
+                                       spaced_unit, hint.empty() ? "" : "; ", hint));
 }
 
 std::int64_t parse_integer(std::string_view text, const FieldLocation& where) {

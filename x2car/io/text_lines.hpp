@@ -40,6 +40,10 @@ std::vector<TextLine> split_lines(std::string_view text, const LineOptions& opti
 // errors about a position found by searching a whole text.
 std::size_t line_number_at(std::string_view text, std::size_t offset);
 
+// A field as the user wrote it, for messages: in single quotes, shortened to 40 characters ("..."),
+// bytes that are not printable ASCII written as \xNN (a binary file gives a short, clean message).
+std::string quote_field(std::string_view text);
+
 // Trims spaces, tabs, '\r' and '\n' from both ends.
 std::string_view trim(std::string_view text);
 
@@ -87,6 +91,18 @@ enum class NonFinite {
 // and `non_finite` is kReject.
 double parse_double(std::string_view text, const FieldLocation& where,
                     NonFinite non_finite = NonFinite::kReject);
+
+// Throws InputError at `where` when |value| > limit: "1e308 m is beyond +-10000 m: not a plausible
+// value", showing `text` as written. Readers call it with bounds far beyond any drive, so that a
+// corrupt number is caught at its line instead of overflowing a computation later. A `hint` is
+// appended ("; ..."): what the value may mean instead.
+void check_plausible(double value, double limit, std::string_view text, std::string_view unit,
+                     const FieldLocation& where, std::string_view hint = {});
+
+// Bounds of the numbers of an extrinsic (x2car convert's readers): every number [m or unitless],
+// and an angle in radians.
+constexpr double kExtrinsicMaxValue = 1e4;
+constexpr double kExtrinsicMaxRadians = 2.0 * 3.14159265358979323846;
 
 // Parses a whole field as a signed 64-bit integer; InputError at `where` otherwise.
 std::int64_t parse_integer(std::string_view text, const FieldLocation& where);

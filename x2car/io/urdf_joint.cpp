@@ -178,8 +178,15 @@ Eigen::Vector3d origin_triple(const UrdfContext& urdf, const XmlTag& origin,
     throw InputError(where.file, where.line, where.field,
                      fmt::format("expected 3 numbers, found {}", fields.size()));
   }
-  return {parse_double(fields[0], where), parse_double(fields[1], where),
-          parse_double(fields[2], where)};
+  const bool angles = name == "rpy";
+  Eigen::Vector3d values;
+  for (int i = 0; i < 3; ++i) {
+    values[i] = parse_double(fields[static_cast<std::size_t>(i)], where);
+    check_plausible(values[i], angles ? kExtrinsicMaxRadians : kExtrinsicMaxValue,
+                    fields[static_cast<std::size_t>(i)], angles ? "rad" : "m", where,
+                    angles ? "URDF angles are radians" : "");
+  }
+  return values;
 }
 
 Extrinsic joint_extrinsic(const UrdfContext& urdf, const XmlTag& joint, std::size_t body_end) {

@@ -51,6 +51,18 @@ TEST(ParseUrdf, SeveralJointsNeedAChildName) {
   EXPECT_EQ(parse_urdf(text, "u", "radar").parent_from_child.translation().x(), 3.0);
 }
 
+TEST(ParseUrdf, ImplausibleOriginNumbersAreErrors) {
+  const InputError error = input_error_of([] {
+    parse_urdf(
+        "<joint name=\"j\" type=\"fixed\"><parent link=\"a\"/><child link=\"b\"/>\n"
+        "<origin xyz=\"1 0 2\" rpy=\"0 0 90\"/></joint>",
+        "u");
+  });
+  EXPECT_EQ(error.field(), "origin rpy");
+  EXPECT_EQ(error.line(), 2u);
+  EXPECT_THAT(error.what(), HasSubstr("URDF angles are radians"));
+}
+
 TEST(ParseUrdf, RejectsAMovingJointAndAMissingParent) {
   EXPECT_EQ(input_error_of([] {
               parse_urdf(
