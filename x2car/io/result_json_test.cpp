@@ -160,8 +160,6 @@ TEST(ResultJson, TimingCanBeLeftOutForIdenticalBytes) {
   reproducible.include_timing = false;
   EXPECT_FALSE(result_to_json(slow, reproducible).contains("seconds"));
   EXPECT_EQ(format_result_json(slow, reproducible), format_result_json(fast, reproducible));
-  EXPECT_EQ(format_results_json(std::vector{slow}, reproducible),
-            format_results_json(std::vector{fast}, reproducible));
 }
 
 TEST(ResultJson, InsufficientDataKeepsItsReason) {
