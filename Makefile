@@ -1,5 +1,6 @@
 # The two commands a newcomer needs: `make demo` and `make test`. PRESET picks the CMake preset
-# (release, debug, asan); `make test PRESET=asan` runs the tests under the sanitizers.
+# (release, relwithdebinfo, debug, asan; optimised builds as a packager does, -O3, no tests);
+# `make test PRESET=asan` runs the tests under the sanitizers.
 PRESET ?= release
 MAKEFLAGS += --no-print-directory
 BUILD_DIR := build/$(PRESET)
@@ -24,7 +25,10 @@ test: build
 demo: build
 	@scripts/demo $(X2CAR)
 
-bench: build
+# The benchmarks are not part of `make test`'s build; this adds them to the preset's build.
+bench: setup
+	@cmake --preset $(PRESET) -DX2CAR_BUILD_BENCH=ON >/dev/null
+	@cmake --build --preset $(PRESET)
 	@scripts/bench $(BUILD_DIR)
 
 format:
@@ -35,3 +39,13 @@ format-check:
 
 clean:
 	@rm -rf build
+
+# ---- fuzzing (fuzz/README.md): clang + libFuzzer, one target at a time for FUZZ_SECONDS each ----
+FUZZ_SECONDS ?= 600
+.PHONY: fuzz fuzz-build
+fuzz-build:
+	@scripts/setup fuzz
+	@cmake --preset fuzz >/dev/null
+	@cmake --build --preset fuzz
+fuzz: fuzz-build
+	@FUZZ_SECONDS=$(FUZZ_SECONDS) fuzz/run $(FUZZ_TARGETS)

@@ -1,3 +1,16 @@
+# x2car_precompile(TARGET HEADER...): the heavy third-party headers most files of TARGET include,
+# parsed once per target instead of once per file (X2CAR_PRECOMPILED_HEADERS, on by default:
+# about a third of a cold build's compile time is Eigen, GoogleTest and CLI11 parsed again and
+# again).
+function(x2car_precompile target)
+  if(X2CAR_PRECOMPILED_HEADERS)
+    target_precompile_headers(${target} PRIVATE ${ARGN})
+  endif()
+endfunction()
+
+set(X2CAR_COMMON_HEADERS <Eigen/Core> <Eigen/Geometry> <algorithm> <cmath> <map> <optional>
+                         <string> <vector> <fmt/format.h>)
+
 # x2car_module(NAME SOURCES ... DEPENDS ...): one static library per module folder.
 function(x2car_module name)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPENDS" ${ARGN})
@@ -5,6 +18,7 @@ function(x2car_module name)
   add_library(x2car::${name} ALIAS x2car_${name})
   target_include_directories(x2car_${name} PUBLIC ${PROJECT_SOURCE_DIR})
   target_link_libraries(x2car_${name} PUBLIC ${ARG_DEPENDS} PRIVATE x2car_warnings)
+  x2car_precompile(x2car_${name} ${X2CAR_COMMON_HEADERS})
 endfunction()
 
 # x2car_tests(NAME SOURCES ... DEPENDS ...): one GoogleTest binary per module, registered with ctest.
@@ -16,6 +30,7 @@ function(x2car_tests name)
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPENDS} GTest::gtest GTest::gmock GTest::gtest_main
                                         x2car_warnings)
+  x2car_precompile(${name} ${X2CAR_COMMON_HEADERS} <gtest/gtest.h> <gmock/gmock.h>)
   # Test suites named *Timing measure wall time: they run alone, so that a parallel ctest does not
   # take their cores.
   gtest_discover_tests(${name} TEST_FILTER "-*Timing.*" DISCOVERY_TIMEOUT 60)

@@ -19,8 +19,9 @@ constexpr std::array kCalibrators = {
                "from a folder of PCD or KITTI sweeps",
                &setup_calibrate_lidar_command},
     Subcommand{"radar",
-               "radar -> car: yaw by the velocity method (Doppler of static targets), from "
-               "Conti, Delphi or generic radar files and a GNSS/INS log",
+               "radar -> car: yaw by the velocity method (Doppler of static targets) and the "
+               "position method (static tracks), auto choosing, from Conti, Delphi or generic "
+               "radar files and a GNSS/INS log",
                &setup_calibrate_radar_command},
 };
 
@@ -35,7 +36,8 @@ RunCommand setup_calibrate_command(CLI::App& command) {
   }
   command.footer(
       "Exit codes: 0 a result, 1 too little usable data (the reason is printed), 2 usage or input "
-      "error.\nRun 'x2car calibrate SENSOR --help' for one sensor's options.");
+      "error, 3 internal error (a bug).\nRun 'x2car calibrate SENSOR --help' for one sensor's "
+      "options.");
   return [runners] {
     for (const auto& [sub, run] : *runners) {
       if (sub->parsed()) return run();

@@ -15,6 +15,7 @@ struct CalibrateInsArguments {
   std::string input_path;
   std::string format = "auto";
   std::string yaw_convention;  // empty: as the CSV header says
+  std::string angle_unit = io::to_string(io::InsCsvOptions{}.angle_unit);
   TrackArguments track;
   bool spline_velocity = false;
   OutputArguments output;
@@ -26,19 +27,22 @@ io::InsReadOptions read_options(const CalibrateInsArguments& arguments) {
   if (!arguments.yaw_convention.empty()) {
     options.csv.yaw_convention = io::yaw_convention_from_string(arguments.yaw_convention);
   }
+  options.csv.angle_unit = io::angle_unit_from_string(arguments.angle_unit);
   return options;
 }
 
 ins::InsCalibrationOptions calibration_options(const CalibrateInsArguments& arguments) {
   ins::InsCalibrationOptions options;
-  options.yaw_method = apply_track_arguments(arguments.track, options.alignment);
+  apply_track_arguments(arguments.track, options.alignment, options.yaw_method);
   options.use_device_velocity = !arguments.spline_velocity;
   options.keep_series = !arguments.output.without_series;
   return options;
 }
 
 int run_calibrate_ins(const CalibrateInsArguments& arguments) {
+  check_output_arguments(arguments.output, {{{"--input", arguments.input_path}}});
   const io::InsLog log = io::read_ins_log(arguments.input_path, read_options(arguments));
+  for (const std::string& notice : log.notices) spdlog::warn("{}", notice);
   spdlog::info("read {} GNSS/INS samples ({}) from {}", log.records.size(),
                io::to_string(log.format), arguments.input_path);
   const CalibrationResult result = ins::calibrate_ins(log.records, calibration_options(arguments));
@@ -65,6 +69,13 @@ RunCommand setup_calibrate_ins_command(CLI::App& command) {
                   "east) or azimuth (clockwise from north)")
       ->type_name("NAME")
       ->check(CLI::IsMember({"enu", "azimuth"}));
+  command
+      .add_option("--angle-unit", arguments->angle_unit,
+                  "For a generic CSV: unit of the roll, pitch and yaw/heading columns whose names "
+                  "have no _deg or _rad suffix")
+      ->type_name("UNIT")
+      ->check(CLI::IsMember({"rad", "deg"}))
+      ->capture_default_str();
   add_track_options(command, arguments->track, "samples");
   command.add_flag("--spline-velocity", arguments->spline_velocity,
                    "Ignore the device's velocity; use the smoothed track's");

@@ -1,8 +1,12 @@
 // x2car calibrate lidar: the LiDAR's roll, pitch, yaw and height from a folder of sweeps
 // (x2car/lidar).
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <optional>
+
 #include "apps/x2car/calibration_output.hpp"
+#include "apps/x2car/number_checks.hpp"
 #include "apps/x2car/subcommand.hpp"
 #include "apps/x2car/track_options.hpp"
 #include "x2car/lidar/lidar_calibration.hpp"
@@ -13,22 +17,25 @@ namespace {
 
 struct CalibrateLidarArguments {
   std::string input_path;
-  int ground_every = 2;
-  double max_turn_rate_deg_s = 2.865;  // 0.05 rad/s
+  std::optional<int> ground_every;
+  std::optional<double> max_turn_rate_deg_s;
   TrackArguments track;
   OutputArguments output;
 };
 
 lidar::LidarCalibrationOptions calibration_options(const CalibrateLidarArguments& arguments) {
   lidar::LidarCalibrationOptions options;
-  options.yaw_method = apply_track_arguments(arguments.track, options.alignment);
-  options.ground_every = arguments.ground_every;
-  options.max_ground_turn_rate = rad_from_deg(arguments.max_turn_rate_deg_s);
+  apply_track_arguments(arguments.track, options.alignment, options.yaw_method);
+  if (arguments.ground_every) options.ground_every = *arguments.ground_every;
+  if (arguments.max_turn_rate_deg_s) {
+    options.max_ground_turn_rate = rad_from_deg(*arguments.max_turn_rate_deg_s);
+  }
   options.keep_series = !arguments.output.without_series;
   return options;
 }
 
 int run_calibrate_lidar(const CalibrateLidarArguments& arguments) {
+  check_output_arguments(arguments.output, {{{"--input", arguments.input_path}}});
   const lidar::SweepFolder folder = lidar::list_sweeps(arguments.input_path);
   spdlog::info("found {} sweeps in {} (times from {}; {} other files ignored)",
                folder.sweeps.size(), folder.folder.string(), folder.time_source,
@@ -42,6 +49,7 @@ int run_calibrate_lidar(const CalibrateLidarArguments& arguments) {
 
 RunCommand setup_calibrate_lidar_command(CLI::App& command) {
   auto arguments = std::make_shared<CalibrateLidarArguments>();
+  const lidar::LidarCalibrationOptions defaults;
   command
       .add_option("-i,--input", arguments->input_path,
                   "Folder of sweeps: PCD files named by time (or with times.txt), KITTI "
@@ -51,13 +59,13 @@ RunCommand setup_calibrate_lidar_command(CLI::App& command) {
   command
       .add_option("--ground-every", arguments->ground_every,
                   "Fit the ground plane on every k-th sweep")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
+      ->check(positive_number())
+      ->default_str(std::to_string(defaults.ground_every));
   command
-      .add_option("--max-turn-rate", arguments->max_turn_rate_deg_s,
+      .add_option("--max-turn-rate-deg", arguments->max_turn_rate_deg_s,
                   "Sweeps turning faster are not used for the ground [deg/s]")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
+      ->check(positive_number())
+      ->default_str(fmt::format("{:.4g}", deg_from_rad(defaults.max_ground_turn_rate)));
   add_track_options(command, arguments->track, "poses");
   add_output_options(command, arguments->output);
   command.footer(

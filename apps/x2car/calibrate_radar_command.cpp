@@ -1,11 +1,14 @@
 // x2car calibrate radar: a 2-D radar's mounting yaw from its detections and the GNSS/INS log
 // (x2car/radar).
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <filesystem>
+#include <optional>
 #include <vector>
 
 #include "apps/x2car/calibration_output.hpp"
+#include "apps/x2car/number_checks.hpp"
 #include "apps/x2car/subcommand.hpp"
 #include "x2car/io/ins_log.hpp"
 #include "x2car/io/radar_csv.hpp"
@@ -18,30 +21,42 @@ namespace {
 struct CalibrateRadarArguments {
   std::string input_path;
   std::string ins_path;
-  std::string layout = "conti";
-  std::string method = "auto";
+  std::string layout = "auto";
+  std::string angle_unit = io::to_string(io::RadarReadOptions{}.angle_unit);
+  std::optional<std::string> method;
   std::vector<double> lever_arm_m;  // x y of the radar on the car [m], optional
-  double min_speed = 3.0;
+  std::optional<double> min_speed_mps;
   OutputArguments output;
 };
 
 radar::RadarCalibrationOptions calibration_options(const CalibrateRadarArguments& arguments) {
   radar::RadarCalibrationOptions options;
-  options.method = radar::radar_method_from_string(arguments.method);
+  if (arguments.method) options.method = radar::radar_method_from_string(*arguments.method);
   if (arguments.lever_arm_m.size() == 2) {
     options.lever_arm_in_vehicle =
         Eigen::Vector2d(arguments.lever_arm_m[0], arguments.lever_arm_m[1]);
   }
-  options.min_speed_mps = arguments.min_speed;
+  if (arguments.min_speed_mps) options.min_speed_mps = *arguments.min_speed_mps;
+  return options;
+}
+
+io::RadarReadOptions read_options(const CalibrateRadarArguments& arguments) {
+  io::RadarReadOptions options;
+  if (arguments.layout != "auto") options.layout = io::radar_layout_from_string(arguments.layout);
+  options.angle_unit = io::angle_unit_from_string(arguments.angle_unit);
   return options;
 }
 
 int run_calibrate_radar(const CalibrateRadarArguments& arguments) {
-  const io::RadarLog radar_log =
-      io::read_radar(arguments.input_path, io::radar_layout_from_string(arguments.layout));
+  check_output_arguments(arguments.output,
+                         {{{"--input", arguments.input_path}, {"--ins", arguments.ins_path}}});
+  const io::RadarReadOptions radar_options = read_options(arguments);
+  const io::RadarLog radar_log = io::read_radar(arguments.input_path, radar_options);
   const io::InsLog ins_log = io::read_ins_log(arguments.ins_path);
+  for (const std::string& notice : radar_log.notices) spdlog::warn("{}", notice);
+  for (const std::string& notice : ins_log.notices) spdlog::warn("{}", notice);
   spdlog::info("read {} radar detections ({}) from {} and {} GNSS/INS samples from {}",
-               radar_log.detections.size(), arguments.layout, arguments.input_path,
+               radar_log.detections.size(), io::to_string(radar_log.layout), arguments.input_path,
                ins_log.records.size(), arguments.ins_path);
   // Put the radar's times on the GNSS/INS log's clock.
   const double offset_s =
@@ -68,9 +83,19 @@ RunCommand setup_calibrate_radar_command(CLI::App& command) {
                   "folder")
       ->type_name("FILE")
       ->required();
-  command.add_option("--layout", arguments->layout, "Layout of the radar files")
+  command
+      .add_option("--layout", arguments->layout,
+                  "Layout of the radar files; auto tells conti, delphi and generic apart from the "
+                  "files")
       ->type_name("NAME")
-      ->check(CLI::IsMember({"conti", "delphi", "generic"}))
+      ->check(CLI::IsMember({"auto", "conti", "delphi", "generic"}))
+      ->capture_default_str();
+  command
+      .add_option("--angle-unit", arguments->angle_unit,
+                  "Unit of the generic CSV's azimuth and Delphi's bearing (conti has no angle "
+                  "column)")
+      ->type_name("UNIT")
+      ->check(CLI::IsMember({"rad", "deg"}))
       ->capture_default_str();
   command
       .add_option("--method", arguments->method,
@@ -79,16 +104,16 @@ RunCommand setup_calibrate_radar_command(CLI::App& command) {
                   "one chosen by agreement and support, and why)")
       ->type_name("NAME")
       ->check(CLI::IsMember({"auto", "velocity", "position"}))
-      ->capture_default_str();
+      ->default_str(radar::to_string(radar::RadarCalibrationOptions{}.method));
   command
       .add_option("--lever-arm", arguments->lever_arm_m,
                   "The radar's x y on the car [m]; with it turns are used, without they are gated "
                   "out")
       ->expected(2)
       ->type_name("X Y");
-  command.add_option("--min-speed", arguments->min_speed, "Slower samples are not used [m/s]")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
+  command.add_option("--min-speed", arguments->min_speed_mps, "Slower samples are not used [m/s]")
+      ->check(positive_number())
+      ->default_str(fmt::format("{:g}", radar::RadarCalibrationOptions{}.min_speed_mps));
   add_output_options(command, arguments->output);
   command.footer(
       "Roll and pitch are not observable by a 2-D radar and are reported as null. The yaw is "

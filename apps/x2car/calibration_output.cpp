@@ -43,6 +43,13 @@ void add_output_options(CLI::App& command, OutputArguments& arguments) {
                    "Leave the per-sample series out of the JSON (smaller file)");
 }
 
+void check_output_arguments(const OutputArguments& arguments, std::span<const NamedPath> inputs) {
+  const NamedPath outputs[] = {{"--out", arguments.json_path},
+                               {"--yaml", arguments.yaml_path},
+                               {"--urdf", arguments.urdf_path}};
+  check_output_files(outputs, inputs);
+}
+
 std::string format_result_summary(const CalibrationResult& result) {
   std::string text;
   if (!result.ok()) {
@@ -65,6 +72,8 @@ std::string format_result_summary(const CalibrationResult& result) {
 
 int finish_calibration(const CalibrationResult& result, const OutputArguments& arguments) {
   std::cout << format_result_summary(result);
+  // -v: the figures behind the estimate, which the summary leaves to the JSON.
+  for (const auto& [name, value] : result.diagnostics) spdlog::debug("  {} = {:g}", name, value);
   if (!arguments.json_path.empty()) {
     io::write_result_json(arguments.json_path, result,
                           {.include_series = !arguments.without_series});

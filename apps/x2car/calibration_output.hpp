@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
+#include "apps/x2car/output_paths.hpp"
 #include "x2car/core/calibration_result.hpp"
 
 namespace x2car::cli {
@@ -17,6 +18,10 @@ struct OutputArguments {
 };
 
 void add_output_options(CLI::App& command, OutputArguments& arguments);
+
+// Checks --out, --yaml and --urdf before the calibration runs (output_paths.hpp): each must be
+// writable and none may be one of `inputs`. Throws std::invalid_argument.
+void check_output_arguments(const OutputArguments& arguments, std::span<const NamedPath> inputs);
 
 // Prints the summary to stdout, writes the files (the YAML and URDF only for an ok result) and
 // returns kExitOk or kExitInsufficientData.

@@ -7,6 +7,7 @@ enum ExitCode : int {
   kExitOk = 0,                 // a result was produced
   kExitInsufficientData = 1,   // the input was read but holds too little usable data
   kExitUsageOrInputError = 2,  // bad arguments, or a file that cannot be read or parsed
+  kExitInternalError = 3,      // a bug in x2car: an error no input should cause
 };
 
 }  // namespace x2car::cli

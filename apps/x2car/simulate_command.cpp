@@ -1,13 +1,19 @@
 // x2car simulate: one procedural drive with its sensors' data and ground truth (x2car/sim).
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <limits>
+#include <optional>
 
 #include "apps/x2car/exit_codes.hpp"
+#include "apps/x2car/number_checks.hpp"
+#include "apps/x2car/output_paths.hpp"
 #include "apps/x2car/simulation_config.hpp"
 #include "apps/x2car/subcommand.hpp"
 #include "x2car/core/error.hpp"
@@ -19,24 +25,24 @@
 namespace x2car::cli {
 namespace {
 
+// What the command line gave; an option not given leaves the library's default
+// (sim::SimulationOptions) or the --config file's value.
 struct SimulateArguments {
-  std::string scenario = "urban";
-  double duration_s = 60.0;
-  std::uint64_t seed = 1;
+  std::optional<std::string> scenario;
+  std::optional<double> duration_s;
+  std::optional<std::uint64_t> seed;
   std::string out_dir;
-  std::vector<std::string> sensors = {"ins"};
+  std::optional<std::vector<std::string>> sensors;
   std::string mounting_path;
   std::string ins_preset = "rtk";
-  std::string lidar_format = "pcd";
-  int lidar_beams = 64;
+  std::optional<std::string> lidar_format;
+  std::optional<int> lidar_beams;
   std::string radar_format = "conti";
   std::string trajectory_path;
   std::string trajectory_format = "auto";
   double trajectory_rate_hz = 10.0;
   std::string config_path;
   bool print_config = false;
-  bool duration_given = false;
-  bool lidar_beams_given = false;
 };
 
 // KITTI (12 numbers a line) or TUM (8), from the first line that is not blank or a comment.
@@ -69,12 +75,14 @@ std::vector<StampedPose> read_recorded_path(const SimulateArguments& arguments) 
 
 sim::SimulationOptions simulation_options(const SimulateArguments& arguments) {
   sim::SimulationOptions options;
-  options.scenario = sim::scenario_from_string(arguments.scenario);
-  options.duration_s = arguments.duration_s;
-  options.seed = arguments.seed;
-  options.sensors = arguments.sensors;
+  if (arguments.scenario) options.scenario = sim::scenario_from_string(*arguments.scenario);
+  if (arguments.duration_s) options.duration_s = *arguments.duration_s;
+  if (arguments.seed) options.seed = *arguments.seed;
+  if (arguments.sensors) options.sensors = *arguments.sensors;
   options.ins = arguments.ins_preset == "sps" ? sim::InsOptions::sps() : sim::InsOptions::rtk();
-  options.lidar_format = sim::lidar_file_format_from_string(arguments.lidar_format);
+  if (arguments.lidar_format) {
+    options.lidar_format = sim::lidar_file_format_from_string(*arguments.lidar_format);
+  }
   options.radar_layout = io::radar_layout_from_string(arguments.radar_format);
   // The Delphi layout is an ESR's: its rate, field of view and 64 track ids.
   options.radar = options.radar_layout == io::RadarLayout::kDelphi
@@ -83,7 +91,7 @@ sim::SimulationOptions simulation_options(const SimulateArguments& arguments) {
   // Precedence: the presets above are the base that --config changes; an option given on the
   // command line wins over the file.
   if (!arguments.config_path.empty()) apply_simulation_config(arguments.config_path, options);
-  if (arguments.lidar_beams_given) options.lidar.beams = arguments.lidar_beams;
+  if (arguments.lidar_beams) options.lidar.beams = *arguments.lidar_beams;
   if (!arguments.mounting_path.empty()) {
     options.mountings = io::read_mountings(arguments.mounting_path);
   }
@@ -91,7 +99,7 @@ sim::SimulationOptions simulation_options(const SimulateArguments& arguments) {
     options.recorded_path = read_recorded_path(arguments);
     options.recorded_path_file = arguments.trajectory_path;  // errors in the drive name it
     // The recording's length unless --duration cuts it.
-    if (!arguments.duration_given) options.duration_s = std::numeric_limits<double>::max();
+    if (!arguments.duration_s) options.duration_s = std::numeric_limits<double>::max();
   }
   return options;
 }
@@ -148,6 +156,10 @@ int run_simulate(const SimulateArguments& arguments) {
   if (arguments.out_dir.empty()) {
     throw std::invalid_argument("simulate: --out DIR is required (the folder to write)");
   }
+  const NamedPath inputs[] = {{"--trajectory", arguments.trajectory_path},
+                              {"--config", arguments.config_path},
+                              {"--mounting", arguments.mounting_path}};
+  check_output_folder({"--out", arguments.out_dir}, inputs);
   const auto start = std::chrono::steady_clock::now();
   const sim::Simulation simulation = sim::simulate(options);
   sim::write_simulation(simulation, arguments.out_dir);
@@ -161,16 +173,26 @@ int run_simulate(const SimulateArguments& arguments) {
 
 RunCommand setup_simulate_command(CLI::App& command) {
   auto arguments = std::make_shared<SimulateArguments>();
+  const sim::SimulationOptions defaults;
   command.add_option("--scenario", arguments->scenario, "Kind of drive")
       ->type_name("NAME")
       ->check(CLI::IsMember({"straight", "urban", "highway", "mixed"}))
-      ->capture_default_str();
-  CLI::Option* duration =
-      command.add_option("--duration", arguments->duration_s, "Seconds of driving")
-          ->type_name("SECONDS")
-          ->check(CLI::PositiveNumber)
-          ->capture_default_str();
-  command.add_option("--seed", arguments->seed, "Seed of every random draw")->capture_default_str();
+      ->default_str(sim::to_string(defaults.scenario));
+  command.add_option("--duration", arguments->duration_s, "Seconds of driving")
+      ->type_name("SECONDS")
+      ->check(positive_number())
+      ->default_str(fmt::format("{:g}", defaults.duration_s));
+  // Read as text: CLI11 would wrap "-1" to 18446744073709551615.
+  command.add_option("--seed", arguments->seed, "Seed of every random draw (0 or more)")
+      ->check(CLI::Validator(
+          [](const std::string& text) -> std::string {
+            if (text.empty() || !std::all_of(text.begin(), text.end(), ::isdigit)) {
+              return "the seed must be a whole number 0 or more, got " + text;
+            }
+            return {};
+          },
+          "UINT"))
+      ->default_str(std::to_string(defaults.seed));
   // Required unless --print-config (checked when it runs).
   command.add_option("--out", arguments->out_dir, "Folder to write (created if needed; required)")
       ->type_name("DIR");
@@ -178,7 +200,7 @@ RunCommand setup_simulate_command(CLI::App& command) {
       ->type_name("LIST")
       ->delimiter(',')
       ->check(CLI::IsMember(sim::simulated_sensor_names()))
-      ->capture_default_str();
+      ->default_str(fmt::format("{}", fmt::join(defaults.sensors, ",")));
   command
       .add_option("--mounting", arguments->mounting_path,
                   "YAML with vehicle_from_<sensor> entries (the layout of ground_truth.yaml) "
@@ -195,15 +217,13 @@ RunCommand setup_simulate_command(CLI::App& command) {
                   "LiDAR sweeps as pcd (binary PCD), kitti (velodyne .bin + times.txt) or both")
       ->type_name("NAME")
       ->check(CLI::IsMember({"pcd", "kitti", "both"}))
-      ->capture_default_str();
-  CLI::Option* lidar_beams =
-      command
-          .add_option(
-              "--lidar-beams", arguments->lidar_beams,
-              "LiDAR beam table: 32 (OS1-32-like), 64 (HDL-64-like) or 128 (Pandar128-like)")
-          ->type_name("N")
-          ->check(CLI::IsMember({32, 64, 128}))
-          ->capture_default_str();
+      ->default_str(sim::to_string(defaults.lidar_format));
+  command
+      .add_option("--lidar-beams", arguments->lidar_beams,
+                  "LiDAR beam table: 32 (OS1-32-like), 64 (HDL-64-like) or 128 (Pandar128-like)")
+      ->type_name("N")
+      ->check(CLI::IsMember({32, 64, 128}))
+      ->default_str(std::to_string(defaults.lidar.beams));
   command
       .add_option("--radar-format", arguments->radar_format,
                   "Radar as conti (ARS408-like scan files), delphi (ESR-like scan files, 20 Hz) or "
@@ -228,7 +248,7 @@ RunCommand setup_simulate_command(CLI::App& command) {
       .add_option("--trajectory-rate", arguments->trajectory_rate_hz,
                   "Pose rate of a KITTI file without times.txt beside it [Hz]")
       ->type_name("HZ")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->capture_default_str();
   command
       .add_option("--config", arguments->config_path,
@@ -252,11 +272,7 @@ RunCommand setup_simulate_command(CLI::App& command) {
       "  x2car simulate --duration 60 --sensors ins,lidar --lidar-beams 32 --out /tmp/lidar\n"
       "  x2car simulate --duration 60 --sensors ins,radar --radar-format delphi --out /tmp/radar\n"
       "  x2car simulate --print-config > sim.yaml   # edit, then: --config sim.yaml");
-  return [arguments, duration, lidar_beams] {
-    arguments->duration_given = duration->count() > 0;
-    arguments->lidar_beams_given = lidar_beams->count() > 0;
-    return run_simulate(*arguments);
-  };
+  return [arguments] { return run_simulate(*arguments); };
 }
 
 }  // namespace x2car::cli

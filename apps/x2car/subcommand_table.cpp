@@ -17,7 +17,7 @@ std::span<const Subcommand> subcommand_table() {
                  &setup_simulate_command},
       Subcommand{"calibrate",
                  "Find a sensor's mounting (rotation to the car body) from a drive: calibrate "
-                 "ins",
+                 "ins|lidar|radar",
                  &setup_calibrate_command},
   };
   return kSubcommands;

@@ -59,7 +59,9 @@ struct CalibrationResult {
   std::map<std::string, double> diagnostics;
   std::vector<Series> series;
 
-  double seconds = 0.0;  // wall time the calibration took [s]
+  // Wall time the calibration took [s]; the one field that differs between identical runs
+  // (io::ResultJsonOptions::include_timing leaves it out of the JSON).
+  double seconds = 0.0;
 
   bool ok() const { return status == CalibrationStatus::kOk; }
   // The estimated angles with unobserved ones as 0; only meaningful when ok().

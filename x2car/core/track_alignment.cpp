@@ -8,6 +8,7 @@
 
 #include "x2car/core/options_check.hpp"
 #include "x2car/core/rotation.hpp"
+#include "x2car/core/track_heading.hpp"
 
 namespace x2car {
 namespace {
@@ -27,57 +28,55 @@ void check_track(const SensorTrack& track) {
   }
 }
 
+// Samples [begin, end) between two time gaps.
+struct Piece {
+  std::size_t begin = 0;
+  std::size_t end = 0;
+};
+
+std::vector<Piece> split_at_gaps(std::span<const double> times, double split_gap_s) {
+  std::vector<Piece> pieces;
+  std::size_t begin = 0;
+  for (std::size_t i = 1; i <= times.size(); ++i) {
+    if (i == times.size() || times[i] - times[i - 1] > split_gap_s) {
+      pieces.push_back({begin, i});
+      begin = i;
+    }
+  }
+  return pieces;
+}
+
+// A piece is smoothed when it could hold a run and has the samples the splines need.
+bool smoothable(std::span<const double> times, const Piece& piece,
+                const TrackAlignmentOptions& options) {
+  const auto needed = static_cast<std::size_t>(options.track.spline.degree + 2);
+  return piece.end - piece.begin >= needed &&
+         times[piece.end - 1] - times[piece.begin] >= options.segments.min_duration_s;
+}
+
+// What the splines of one piece give at its samples.
+struct PieceKinematics {
+  PlanarTrackSamples track;
+  std::vector<double> longitudinal_acceleration;  // [m/s^2]
+  std::vector<Eigen::Vector3d> spline_velocity;   // [m/s]; empty when the sensor has its own
+};
+
 // Velocity of the sensor [m/s] from the splines, for tracks without their own: horizontal from
 // the sampled planar track, vertical from a spline of z.
-std::vector<Eigen::Vector3d> spline_velocities(const SensorTrack& track,
+std::vector<Eigen::Vector3d> spline_velocities(std::span<const double> times,
+                                               std::span<const Eigen::Vector3d> positions,
                                                const PlanarTrackSamples& samples,
                                                const TrackAlignmentOptions& options) {
-  std::vector<double> z(track.time.size());
-  for (std::size_t i = 0; i < z.size(); ++i) z[i] = track.position_enu[i].z();
-  const PSpline z_of_time = fit_pspline(track.time, z, options.track.spline);
-  std::vector<Eigen::Vector3d> velocities(track.time.size());
+  std::vector<double> z(times.size());
+  for (std::size_t i = 0; i < z.size(); ++i) z[i] = positions[i].z();
+  const PSpline z_of_time = fit_pspline(times, z, options.track.spline);
+  std::vector<Eigen::Vector3d> velocities(times.size());
   for (std::size_t i = 0; i < velocities.size(); ++i) {
     velocities[i] = {samples.speed[i] * std::cos(samples.heading_enu[i]),
                      samples.speed[i] * std::sin(samples.heading_enu[i]),
-                     z_of_time.derivative(track.time[i], 1)};
+                     z_of_time.derivative(times[i], 1)};
   }
   return velocities;
-}
-
-// Curvature [1/m] from the sensor's yaw rate: d(heading)/dt of a P-spline through the unwrapped
-// heading, over the track's speed; 0 where the car stands.
-std::vector<double> yaw_rate_curvature(std::span<const double> times,
-                                       std::span<const double> headings,
-                                       std::span<const double> speeds,
-                                       const PSplineOptions& spline_options) {
-  std::vector<double> unwrapped(headings.begin(), headings.end());
-  for (std::size_t i = 1; i < unwrapped.size(); ++i) {
-    unwrapped[i] = unwrapped[i - 1] + angle_difference(headings[i], headings[i - 1]);
-  }
-  const PSpline heading_of_time = fit_pspline(times, unwrapped, spline_options);
-  std::vector<double> curvature(times.size(), 0.0);
-  for (std::size_t i = 0; i < times.size(); ++i) {
-    if (speeds[i] > 0.0) curvature[i] = heading_of_time.derivative(times[i], 1) / speeds[i];
-  }
-  return curvature;
-}
-
-// Flags samples whose heading offset is more than 90 deg from the mean offset of all moving
-// samples: the car was going backwards, so the track's heading is the car's plus pi.
-std::vector<std::uint8_t> find_reversing(std::span<const double> offsets,
-                                         std::span<const double> speeds, double min_speed) {
-  std::vector<double> moving;
-  for (std::size_t i = 0; i < offsets.size(); ++i) {
-    if (speeds[i] >= min_speed) moving.push_back(offsets[i]);
-  }
-  std::vector<std::uint8_t> reversing(offsets.size(), 0);
-  if (moving.empty() || mean_resultant_length(moving) < 1e-6) return reversing;
-  const double usual_offset = circular_mean(moving);
-  for (std::size_t i = 0; i < offsets.size(); ++i) {
-    reversing[i] =
-        speeds[i] >= min_speed && std::abs(angle_difference(offsets[i], usual_offset)) > kPi / 2.0;
-  }
-  return reversing;
 }
 
 // The velocity method's yaw and pitch of one sample (see the header); NaN when the velocity is
@@ -113,6 +112,104 @@ std::vector<double> longitudinal_accelerations(const PlanarTrack& track,
   return accelerations;
 }
 
+PieceKinematics smooth_piece(const SensorTrack& sensor_track, const Piece& piece,
+                             const TrackAlignmentOptions& options) {
+  const std::size_t n = piece.end - piece.begin;
+  const std::span<const double> times(sensor_track.time.data() + piece.begin, n);
+  const std::span<const Eigen::Vector3d> positions(sensor_track.position_enu.data() + piece.begin,
+                                                   n);
+  std::vector<double> x(n), y(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    x[i] = positions[i].x();
+    y[i] = positions[i].y();
+  }
+  const PlanarTrack planar = fit_planar_track(times, x, y, options.track);
+  PieceKinematics kinematics;
+  kinematics.track = sample_planar_track(planar, times);
+  kinematics.longitudinal_acceleration = longitudinal_accelerations(planar, kinematics.track);
+  if (sensor_track.velocity_enu.empty()) {
+    kinematics.spline_velocity = spline_velocities(times, positions, kinematics.track, options);
+  }
+  return kinematics;
+}
+
+template <typename T>
+void append(std::vector<T>& to, const std::vector<T>& from) {
+  to.insert(to.end(), from.begin(), from.end());
+}
+
+// The samples of a piece too short to smooth: no speed, no direction.
+void append_unsmoothed(std::span<const double> times, const Piece& piece, TrackAlignment& alignment,
+                       std::vector<Eigen::Vector3d>& velocities) {
+  const double nan = std::nan("");
+  PlanarTrackSamples& track = alignment.track;
+  for (std::size_t i = piece.begin; i < piece.end; ++i) {
+    track.time.push_back(times[i]);
+    track.x.push_back(nan);
+    track.y.push_back(nan);
+    track.speed.push_back(0.0);
+    track.heading_enu.push_back(nan);
+    track.curvature.push_back(nan);
+    alignment.longitudinal_acceleration.push_back(0.0);
+    velocities.push_back(Eigen::Vector3d::Constant(nan));
+  }
+}
+
+// Smooths each piece between time gaps on its own and lays the results end to end, one entry per
+// input sample. Returns the velocities the velocity method uses (the sensor's or the splines').
+std::vector<Eigen::Vector3d> smooth_pieces(const SensorTrack& sensor_track,
+                                           const TrackAlignmentOptions& options,
+                                           TrackAlignment& alignment,
+                                           std::vector<std::uint8_t>& in_short_piece) {
+  std::vector<Eigen::Vector3d> velocities;
+  in_short_piece.assign(sensor_track.time.size(), 0);
+  for (const Piece& piece : split_at_gaps(sensor_track.time, options.split_gap_s)) {
+    if (!smoothable(sensor_track.time, piece, options)) {
+      ++alignment.short_pieces;
+      alignment.in_short_pieces += static_cast<std::int64_t>(piece.end - piece.begin);
+      std::fill(in_short_piece.begin() + piece.begin, in_short_piece.begin() + piece.end, 1);
+      append_unsmoothed(sensor_track.time, piece, alignment, velocities);
+      continue;
+    }
+    ++alignment.pieces;
+    const PieceKinematics kinematics = smooth_piece(sensor_track, piece, options);
+    PlanarTrackSamples& track = alignment.track;
+    append(track.time, kinematics.track.time);
+    append(track.x, kinematics.track.x);
+    append(track.y, kinematics.track.y);
+    append(track.speed, kinematics.track.speed);
+    append(track.heading_enu, kinematics.track.heading_enu);
+    append(track.curvature, kinematics.track.curvature);
+    append(alignment.longitudinal_acceleration, kinematics.longitudinal_acceleration);
+    if (kinematics.spline_velocity.empty()) {
+      velocities.insert(velocities.end(), sensor_track.velocity_enu.begin() + piece.begin,
+                        sensor_track.velocity_enu.begin() + piece.end);
+    } else {
+      append(velocities, kinematics.spline_velocity);
+    }
+  }
+  return velocities;
+}
+
+// The turn gate's curvature [1/m], per piece (the yaw-rate spline must not span a gap either).
+std::vector<double> gate_curvatures(const TrackAlignment& alignment,
+                                    std::span<const std::uint8_t> in_short_piece,
+                                    const TrackAlignmentOptions& options) {
+  if (options.turn_gate == TurnGate::kTrackCurvature) return alignment.track.curvature;
+  std::vector<double> curvature(alignment.track.time.size(), std::nan(""));
+  for (const Piece& piece : split_at_gaps(alignment.track.time, options.split_gap_s)) {
+    if (in_short_piece[piece.begin]) continue;
+    const std::size_t n = piece.end - piece.begin;
+    const std::vector<double> piece_curvature = yaw_rate_curvature(
+        std::span<const double>(alignment.track.time).subspan(piece.begin, n),
+        std::span<const double>(alignment.sensor_heading).subspan(piece.begin, n),
+        std::span<const double>(alignment.track.speed).subspan(piece.begin, n),
+        options.track.spline);
+    std::copy(piece_curvature.begin(), piece_curvature.end(), curvature.begin() + piece.begin);
+  }
+  return curvature;
+}
+
 // Least-squares slope of the inlier pitches on the acceleration; 0 when the acceleration hardly
 // varies (the slope would be noise).
 double fit_pitch_per_acceleration(std::span<const double> pitches,
@@ -144,10 +241,13 @@ std::string describe_shortage(const TrackAlignment& alignment,
   return fmt::format(
       "only {:.1f} s of usable driving (faster than {:g} m/s, |curvature| <= {:g} 1/m, in runs "
       "of at least {:g} s); need {:g} s. Of {} samples: {} too slow, {} in turns, {} reversing, "
-      "{} in runs too short, {} trimmed at run ends",
+      "{} in runs too short, {} trimmed at run ends, {} in {} pieces between time gaps too short "
+      "to "
+      "smooth",
       alignment.valid_duration_s, options.segments.min_speed, options.segments.max_abs_curvature,
       options.segments.min_duration_s, options.min_valid_duration_s, alignment.track.time.size(),
-      r.slow, r.curved, r.excluded - alignment.without_direction, r.short_run, r.trimmed);
+      r.slow, r.curved, alignment.reversing_samples, r.short_run, r.trimmed,
+      alignment.in_short_pieces, alignment.short_pieces);
 }
 
 }  // namespace
@@ -160,56 +260,41 @@ void TrackAlignmentOptions::Check() const {
   check.non_negative("min_valid_duration_s", min_valid_duration_s);
   check.positive("min_acceleration_spread", min_acceleration_spread);
   check.non_negative("reversing_test_min_speed", reversing_test_min_speed);
+  check.positive("split_gap_s", split_gap_s);
 }
 
 TrackAlignment align_track(const SensorTrack& sensor_track, const TrackAlignmentOptions& options) {
   options.Check();
   check_track(sensor_track);
   const std::size_t n = sensor_track.time.size();
-  std::vector<double> x(n), y(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    x[i] = sensor_track.position_enu[i].x();
-    y[i] = sensor_track.position_enu[i].y();
-  }
-  const PlanarTrack planar = fit_planar_track(sensor_track.time, x, y, options.track);
-
   TrackAlignment alignment;
-  alignment.track = sample_planar_track(planar, sensor_track.time);
-  alignment.longitudinal_acceleration = longitudinal_accelerations(planar, alignment.track);
   alignment.velocity_from_sensor = !sensor_track.velocity_enu.empty();
-  const std::vector<Eigen::Vector3d> from_splines =
-      alignment.velocity_from_sensor ? std::vector<Eigen::Vector3d>{}
-                                     : spline_velocities(sensor_track, alignment.track, options);
-  const std::span<const Eigen::Vector3d> velocities =
-      alignment.velocity_from_sensor ? std::span<const Eigen::Vector3d>(sensor_track.velocity_enu)
-                                     : std::span<const Eigen::Vector3d>(from_splines);
-  alignment.sensor_heading.resize(n);
-  alignment.heading_offset.resize(n);
+  std::vector<std::uint8_t> in_short_piece;
+  const std::vector<Eigen::Vector3d> velocities =
+      smooth_pieces(sensor_track, options, alignment, in_short_piece);
+  alignment.sensor_heading = sensor_headings(sensor_track.world_from_sensor);
+  alignment.heading_offset = heading_offsets(alignment.sensor_heading, alignment.track.heading_enu);
   alignment.velocity_yaw.resize(n);
   alignment.velocity_pitch.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Matrix3d& world_from_sensor = sensor_track.world_from_sensor[i];
-    alignment.sensor_heading[i] = euler_from_rotation(world_from_sensor).yaw;
-    alignment.heading_offset[i] =
-        angle_difference(alignment.sensor_heading[i], alignment.track.heading_enu[i]);
-    velocity_direction_angles(velocities[i], world_from_sensor, alignment.velocity_yaw[i],
-                              alignment.velocity_pitch[i]);
+    velocity_direction_angles(velocities[i], sensor_track.world_from_sensor[i],
+                              alignment.velocity_yaw[i], alignment.velocity_pitch[i]);
   }
   alignment.reversing = find_reversing(alignment.heading_offset, alignment.track.speed,
                                        options.reversing_test_min_speed);
-  // Reversing samples, and the rare moving sample whose velocity gives no direction, are excluded.
+  alignment.reversing_samples = std::ranges::count(alignment.reversing, 1);
+  // Samples in short pieces, reversing samples, and the rare moving sample whose velocity gives no
+  // direction are excluded, each counted once.
   std::vector<std::uint8_t> excluded = alignment.reversing;
   for (std::size_t i = 0; i < n; ++i) {
-    if (!std::isfinite(alignment.velocity_yaw[i])) {
+    if (in_short_piece[i]) {
+      excluded[i] = 1;
+    } else if (!excluded[i] && !std::isfinite(alignment.velocity_yaw[i])) {
       excluded[i] = 1;
       ++alignment.without_direction;
     }
   }
-  alignment.gate_curvature =
-      options.turn_gate == TurnGate::kSensorYawRate
-          ? yaw_rate_curvature(alignment.track.time, alignment.sensor_heading,
-                               alignment.track.speed, options.track.spline)
-          : alignment.track.curvature;
+  alignment.gate_curvature = gate_curvatures(alignment, in_short_piece, options);
   alignment.segmentation = segment_runs(alignment.track.time, alignment.track.speed,
                                         alignment.gate_curvature, options.segments, excluded);
   for (const TimeSegment& segment : alignment.segmentation.segments) {
@@ -220,8 +305,8 @@ TrackAlignment align_track(const SensorTrack& sensor_track, const TrackAlignment
     alignment.insufficient_reason = describe_shortage(alignment, options);
     return alignment;
   }
-  alignment.yaw = average_over_segments(alignment.track.time, alignment.heading_offset,
-                                        alignment.segmentation, options.average);
+  alignment.yaw = track_heading_yaw(alignment.track.time, alignment.heading_offset,
+                                    alignment.segmentation, options.average);
   alignment.velocity_yaw_estimate = average_over_segments(
       alignment.track.time, alignment.velocity_yaw, alignment.segmentation, options.average);
   alignment.velocity_pitch_estimate = average_over_segments(

@@ -2,11 +2,11 @@
 // Shared by every calibrator that has the sensor's pose over time (GNSS/INS from the device,
 // LiDAR from its odometry).
 //
-// Track-heading method (the paper's): fit x(t), y(t) with a P-spline, take the heading of its
-// tangent, keep the moving, nearly straight samples (segment_runs), and compare with the sensor's
-// yaw at the same timestamp: offset = wrap(sensor yaw - track heading). On a level car the
-// sensor's ZYX yaw is the car's heading plus the mounting yaw exactly, so the offset is the
-// mounting yaw.
+// Track-heading method (the paper's eq:IMU_angle / eq:lidar_angle; core/track_heading.hpp): fit
+// x(t), y(t) with a P-spline, take the heading of its tangent, keep the moving, nearly straight
+// samples (segment_runs), and compare with the sensor's yaw at the same timestamp: offset =
+// wrap(sensor yaw - track heading). On a level car the sensor's ZYX yaw is the car's heading plus
+// the mounting yaw exactly, so the offset is the mounting yaw.
 //
 // Velocity-direction method (beyond the paper): a car does not slide sideways or lift off, so its
 // velocity points along its x axis (non-holonomic constraint). With the car frame V0 built from
@@ -17,6 +17,11 @@
 //
 // Samples where the car reverses are found as those whose offset is more than 90 deg from the
 // circular mean offset of all moving samples, and excluded.
+//
+// The track is first split where the time between two samples exceeds split_gap_s (a logger
+// pause, a jump in the time stamps) and each piece is smoothed on its own: a spline across the gap
+// would invent a path there and cost time and memory in proportion to the gap, not to the data.
+// Pieces too short to hold a run are left out and counted.
 #pragma once
 
 #include <Eigen/Core>
@@ -71,6 +76,9 @@ struct TrackAlignmentOptions {
   double min_valid_duration_s = 20.0;
   // Samples slower than this are not tested for reversing (their direction is noise) [m/s].
   double reversing_test_min_speed = 0.5;
+  // A gap between samples longer than this splits the track into pieces smoothed separately [s].
+  // Longer than any dropout a spline should bridge; runs already break at segments.max_gap_s.
+  double split_gap_s = 2.0;
 
   // Throws std::invalid_argument naming the offending field.
   void Check() const;
@@ -89,11 +97,20 @@ struct TrackAlignment {
   // [rad / (m/s^2)]; 0 when not fitted. Braking (a < 0) dips the nose (pitch > 0): usually < 0.
   double pitch_per_acceleration = 0.0;
   std::vector<std::uint8_t> reversing;  // 1 where the car moved backwards
+  std::int64_t reversing_samples = 0;   // how many
   // Samples not reversing but with a zero or vertical velocity (no direction to compare with).
   std::int64_t without_direction = 0;
   bool velocity_from_sensor = false;  // the input's velocities were used (else the spline's)
 
-  // rejections.excluded counts the reversing samples plus those without a direction.
+  // The pieces between time gaps longer than split_gap_s: smoothed, and left out for being shorter
+  // than segments.min_duration_s or having too few samples for the spline. The samples of the
+  // short pieces are NaN in the per-sample vectors above (speed 0) and counted here.
+  std::int64_t pieces = 0;
+  std::int64_t short_pieces = 0;
+  std::int64_t in_short_pieces = 0;
+
+  // rejections.excluded counts the reversing samples, those without a direction and those in
+  // short pieces.
   Segmentation segmentation;
   double valid_duration_s = 0.0;
 
@@ -104,8 +121,9 @@ struct TrackAlignment {
   std::optional<SegmentAverage> velocity_pitch_estimate;  // velocity-direction method
 };
 
-// Throws std::invalid_argument when the track's vectors differ in length, has fewer samples than
-// the spline needs, or times do not strictly increase (readers check this with a better message).
+// A track too short or too sparse gives insufficient_reason, not an exception. Throws
+// std::invalid_argument when the track's vectors differ in length or times do not strictly increase
+// (readers check this with a better message), or on invalid options.
 TrackAlignment align_track(const SensorTrack& sensor_track,
                            const TrackAlignmentOptions& options = {});
 

@@ -95,6 +95,7 @@ TEST(TrackAlignment, ReversingSamplesAreExcludedAndCounted) {
   // Faster than 0.5 m/s backwards from ~32.5 s to ~40.5 s.
   EXPECT_NEAR(static_cast<double>(reversing), 800.0, 60.0);
   EXPECT_EQ(alignment.segmentation.rejections.excluded, reversing);
+  EXPECT_EQ(alignment.reversing_samples, reversing);
   EXPECT_THAT(alignment.yaw->value, AngleNearDeg(kMounting.yaw, 0.002));
 }
 
@@ -109,6 +110,68 @@ TEST(TrackAlignment, TurningOnlyIsInsufficientDataWithAReason) {
       << *alignment.insufficient_reason;
   EXPECT_NE(alignment.insufficient_reason->find("need 20 s"), std::string::npos);
   EXPECT_NE(alignment.insufficient_reason->find("in turns"), std::string::npos);
+}
+
+// The track with every time from `from_s` on moved `by_s` later.
+SensorTrack with_time_jump(SensorTrack track, double from_s, double by_s) {
+  for (double& t : track.time) {
+    if (t >= from_s) t += by_s;
+  }
+  return track;
+}
+
+TEST(TrackAlignment, ATimeGapSplitsTheTrackAndEachPieceIsSmoothedAlone) {
+  const auto heading = [](double t) { return 0.3 + 0.2 * std::sin(2 * kPi * t / 60.0); };
+  const auto speed = [](double) { return 12.0; };
+  const SensorTrack track = drive(120.0, heading, speed, kMounting, false);
+  // A week-long jump in the stamps, and Unix times after relative ones: a spline across the gap
+  // would need 2e6 (or 3.4e9) knot intervals. Each piece alone needs 120.
+  for (const double jump_s : {1e6, 1.7e9}) {
+    SCOPED_TRACE(jump_s);
+    const TrackAlignment alignment = align_track(with_time_jump(track, 60.0, jump_s));
+    ASSERT_FALSE(alignment.insufficient_reason) << *alignment.insufficient_reason;
+    EXPECT_EQ(alignment.pieces, 2);
+    EXPECT_EQ(alignment.short_pieces, 0);
+    EXPECT_THAT(alignment.yaw->value, AngleNearDeg(kMounting.yaw, 0.002));
+    EXPECT_THAT(alignment.velocity_yaw_estimate->value, AngleNearDeg(kMounting.yaw, 0.002));
+    EXPECT_THAT(alignment.velocity_pitch_estimate->value, AngleNearDeg(kMounting.pitch, 0.002));
+    // As without the gap, less the 1 s trimmed at each end of the two runs the gap makes.
+    EXPECT_NEAR(alignment.valid_duration_s, 120.0 - 4 * 1.0, 0.1);
+    EXPECT_EQ(alignment.track.time.size(), track.time.size());
+  }
+}
+
+TEST(TrackAlignment, PiecesTooShortToSmoothAreLeftOutAndCounted) {
+  const auto heading = [](double) { return 0.5; };
+  const auto speed = [](double) { return 10.0; };
+  // 0-40 s, then 3 s alone (shorter than a 5 s run), then 40 s more.
+  SensorTrack track = drive(83.0, heading, speed, kMounting, true);
+  track = with_time_jump(with_time_jump(track, 40.005, 100.0), 143.005, 100.0);
+  const TrackAlignment alignment = align_track(track);
+  ASSERT_FALSE(alignment.insufficient_reason) << *alignment.insufficient_reason;
+  EXPECT_EQ(alignment.pieces, 2);
+  EXPECT_EQ(alignment.short_pieces, 1);
+  EXPECT_EQ(alignment.in_short_pieces, 300);  // 100 Hz for 3 s
+  EXPECT_EQ(alignment.segmentation.rejections.excluded, alignment.in_short_pieces);
+  EXPECT_THAT(alignment.yaw->value, AngleNearDeg(kMounting.yaw, 0.002));
+}
+
+TEST(TrackAlignment, TooFewSamplesIsInsufficientDataNotAnError) {
+  const SensorTrack full = drive(
+      10.0, [](double) { return 0.0; }, [](double) { return 5.0; }, kMounting, true);
+  for (const std::size_t count : {0, 1, 3}) {
+    SensorTrack track;
+    for (std::size_t i = 0; i < count; ++i) {
+      track.time.push_back(full.time[i]);
+      track.position_enu.push_back(full.position_enu[i]);
+      track.world_from_sensor.push_back(full.world_from_sensor[i]);
+    }
+    const TrackAlignment alignment = align_track(track);
+    ASSERT_TRUE(alignment.insufficient_reason) << count;
+    EXPECT_EQ(alignment.in_short_pieces, static_cast<std::int64_t>(count));
+    EXPECT_NE(alignment.insufficient_reason->find("too short to smooth"), std::string::npos)
+        << *alignment.insufficient_reason;
+  }
 }
 
 TEST(TrackAlignment, RejectsMalformedTracks) {

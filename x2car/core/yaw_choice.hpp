@@ -39,16 +39,24 @@ struct DisagreementTest {
   void Check() const;
 };
 
-// Sets result.yaw, yaw_std and method ("track_heading" or "velocity_direction") from the estimate
-// `method` picks, and the diagnostics track_method_yaw_deg, track_method_yaw_std_deg,
-// velocity_method_yaw_deg, velocity_method_yaw_std_deg and yaw_disagreement_deg. Returns the
-// estimate reported, and a sentence for `reason` when the two disagree. `alignment` must hold its
-// estimates (no insufficient_reason).
+// The yaw `method` picks from an alignment that holds its estimates (no insufficient_reason; throws
+// std::invalid_argument otherwise), with both methods' estimates for the cross-check. The pointers
+// point into `alignment`.
 struct YawChoice {
+  YawMethod method = YawMethod::kTrackHeading;  // the one reported: track or velocity direction
   const SegmentAverage* reported = nullptr;
+  const SegmentAverage* track_heading = nullptr;       // the paper's (eq:IMU_angle)
+  const SegmentAverage* velocity_direction = nullptr;  // non-holonomic
+  double difference = 0.0;  // wrap(velocity-direction yaw - track-heading yaw) [rad]
+  // A sentence for `reason` when the two disagree beyond the test.
   std::optional<std::string> disagreement;
 };
 YawChoice choose_yaw(const TrackAlignment& alignment, YawMethod method,
-                     const DisagreementTest& disagreement, CalibrationResult& result);
+                     const DisagreementTest& disagreement);
+
+// Sets result.yaw, yaw_std and method ("track_heading" or "velocity_direction") from the choice,
+// and the diagnostics track_method_yaw_deg, track_method_yaw_std_deg, velocity_method_yaw_deg,
+// velocity_method_yaw_std_deg and yaw_disagreement_deg.
+void write_yaw_choice(const YawChoice& choice, CalibrationResult& result);
 
 }  // namespace x2car

@@ -24,7 +24,8 @@ TEST(YawChoice, AutoReportsTheSmallerStandardErrorAndKeepsBoth) {
   const TrackAlignment alignment = alignment_with(rad_from_deg(2.0), rad_from_deg(0.01),
                                                   rad_from_deg(2.01), rad_from_deg(0.004));
   CalibrationResult result;
-  const YawChoice choice = choose_yaw(alignment, YawMethod::kAuto, {}, result);
+  const YawChoice choice = choose_yaw(alignment, YawMethod::kAuto, {});
+  write_yaw_choice(choice, result);
   EXPECT_EQ(result.method, "velocity_direction");
   EXPECT_DOUBLE_EQ(*result.yaw, rad_from_deg(2.01));
   EXPECT_DOUBLE_EQ(*result.yaw_std, rad_from_deg(0.004));
@@ -34,23 +35,22 @@ TEST(YawChoice, AutoReportsTheSmallerStandardErrorAndKeepsBoth) {
   EXPECT_NEAR(result.diagnostics.at("yaw_disagreement_deg"), 0.01, 1e-12);
 
   CalibrationResult track;
-  choose_yaw(alignment, YawMethod::kTrackHeading, {}, track);
+  write_yaw_choice(choose_yaw(alignment, YawMethod::kTrackHeading, {}), track);
   EXPECT_EQ(track.method, "track_heading");
   EXPECT_DOUBLE_EQ(*track.yaw, rad_from_deg(2.0));
 }
 
 TEST(YawChoice, DisagreementNeedsBothTheSigmasAndTheMinimum) {
-  CalibrationResult result;
   // 0.2 deg apart with 0.01 deg standard errors: a disagreement.
   const YawChoice far = choose_yaw(
       alignment_with(rad_from_deg(1.0), rad_from_deg(0.01), rad_from_deg(1.2), rad_from_deg(0.01)),
-      YawMethod::kAuto, {}, result);
+      YawMethod::kAuto, {});
   ASSERT_TRUE(far.disagreement);
   EXPECT_THAT(*far.disagreement, HasSubstr("differs from the track-heading yaw"));
   // 0.04 deg apart: under the 0.05 deg minimum whatever the standard errors.
   const YawChoice near = choose_yaw(alignment_with(rad_from_deg(1.0), rad_from_deg(0.001),
                                                    rad_from_deg(1.04), rad_from_deg(0.001)),
-                                    YawMethod::kAuto, {}, result);
+                                    YawMethod::kAuto, {});
   EXPECT_FALSE(near.disagreement);
   // Across the +-180 deg seam the difference is the short way round.
   const DisagreementTest test;

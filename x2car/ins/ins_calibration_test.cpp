@@ -2,12 +2,16 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "x2car/core/test_matchers.hpp"
+#include "x2car/io/result_json.hpp"
 #include "x2car/sim/simulation.hpp"
 #include "x2car/sim/test_drives.hpp"
 
@@ -150,15 +154,87 @@ TEST(InsCalibration, KeepsTheSeriesAndDiagnosticsForTheReport) {
   ASSERT_TRUE(result.ok());
   std::vector<std::string> names;
   for (const Series& series : result.series) names.push_back(series.name);
-  EXPECT_THAT(names, ::testing::IsSupersetOf({"track_heading", "device_yaw", "heading_offset",
+  EXPECT_THAT(names, ::testing::IsSupersetOf({"track_heading", "sensor_heading", "heading_offset",
                                               "segment_yaw", "segment_pitch"}));
   EXPECT_EQ(result.series.front().time.size(), simulation.ins.size());
+  for (const Series& series : result.series) {  // every series has its times, segments included
+    EXPECT_EQ(series.time.size(), series.value.size()) << series.name;
+  }
   EXPECT_TRUE(result.diagnostics.contains("velocity_method_yaw_deg"));
   EXPECT_TRUE(result.diagnostics.contains("track_method_yaw_deg"));
   EXPECT_GE(result.support.at("segments"), 1);
   InsCalibrationOptions without_series;
   without_series.keep_series = false;
   EXPECT_TRUE(calibrate_ins(simulation.ins, without_series).series.empty());
+}
+
+// Issue 11: a one-week forward jump in the time stamps of a 12 k-row log cost 12 s and 490 MB
+// (the spline spanned the gap). Split at the gap, each piece is smoothed alone: the result is that
+// of the log without the jump, less what the extra run ends trim.
+TEST(InsCalibration, AMillionSecondJumpInTheStampsCalibratesAsWithoutIt) {
+  const sim::Simulation simulation = sim::simulate(drive(sim::Scenario::kUrban, 120.0, 1));
+  std::vector<io::InsRecord> jumped = simulation.ins;
+  for (std::size_t i = jumped.size() / 2; i < jumped.size(); ++i) jumped[i].time += 1e6;
+  const CalibrationResult plain = calibrate_ins(simulation.ins);
+  const CalibrationResult result = calibrate_ins(jumped);
+  ASSERT_TRUE(plain.ok()) << plain.reason;
+  ASSERT_TRUE(result.ok()) << result.reason;
+  EXPECT_EQ(result.support.at("pieces"), 2);
+  EXPECT_EQ(result.rejections.at("short_piece"), 0);
+  EXPECT_THAT(*result.yaw, AngleNearDeg(*plain.yaw, 0.01));
+  EXPECT_THAT(*result.pitch, AngleNearDeg(*plain.pitch, 0.01));
+  const EulerAngles truth = simulation.truth.vehicle_from_sensor.at("ins").rotation;
+  EXPECT_THAT(*result.yaw, AngleNearDeg(truth.yaw, 0.05));
+}
+
+// Valid but odd logs end in insufficient data with the counts, never in an internal error.
+TEST(InsCalibration, OddLogsAreInsufficientDataNotInternalErrors) {
+  const sim::Simulation simulation = sim::simulate(drive(sim::Scenario::kHighway, 60.0, 4));
+  // 3 s bursts 10 s apart: every piece too short to hold a 5 s run.
+  std::vector<io::InsRecord> bursts;
+  for (const io::InsRecord& record : simulation.ins) {
+    if (std::fmod(record.time, 10.0) < 3.0) bursts.push_back(record);
+  }
+  const CalibrationResult result = calibrate_ins(bursts);
+  EXPECT_EQ(result.status, CalibrationStatus::kInsufficientData);
+  EXPECT_EQ(result.rejections.at("short_piece"), static_cast<std::int64_t>(bursts.size()));
+  EXPECT_THAT(result.reason, HasSubstr("too short to smooth"));
+  // A second of 1 kHz stamps, and a log whose positions never change.
+  std::vector<io::InsRecord> dense(simulation.ins.begin(), simulation.ins.begin() + 1000);
+  for (std::size_t i = 0; i < dense.size(); ++i) dense[i].time = 1e-3 * static_cast<double>(i);
+  EXPECT_EQ(calibrate_ins(dense).status, CalibrationStatus::kInsufficientData);
+  std::vector<io::InsRecord> parked = simulation.ins;
+  for (io::InsRecord& record : parked) {
+    record.position_enu = simulation.ins.front().position_enu;
+    record.velocity_enu.setZero();
+  }
+  EXPECT_EQ(calibrate_ins(parked).status, CalibrationStatus::kInsufficientData);
+}
+
+TEST(InsCalibration, MinimumDurationCanBeRelaxedKnowingly) {
+  const sim::Simulation simulation = sim::simulate(drive(sim::Scenario::kHighway, 20.0, 2));
+  const CalibrationResult strict = calibrate_ins(simulation.ins);
+  ASSERT_FALSE(strict.ok());
+  EXPECT_THAT(strict.reason, HasSubstr("need 20 s"));
+  InsCalibrationOptions relaxed;
+  relaxed.alignment.min_valid_duration_s = 5.0;
+  const CalibrationResult result = calibrate_ins(simulation.ins, relaxed);
+  ASSERT_TRUE(result.ok()) << result.reason;
+  EXPECT_LT(result.diagnostics.at("valid_duration_s"), 20.0);
+}
+
+// Issue 11: identical result bytes (timing left out) across runs and thread counts.
+TEST(InsCalibration, IdenticalBytesAcrossRunsAndThreadCounts) {
+  const sim::Simulation simulation = sim::simulate(drive(sim::Scenario::kMixed, 60.0, 3));
+  io::ResultJsonOptions reproducible;
+  reproducible.include_timing = false;
+  const auto run = [&](int threads) {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    return io::format_result_json(calibrate_ins(simulation.ins), reproducible);
+  };
+  const std::string first = run(2);
+  EXPECT_EQ(run(2), first);
+  EXPECT_EQ(run(1), first);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "x2car/core/enum_names.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/core/options_check.hpp"
+#include "x2car/io/novatel_csv.hpp"
 #include "x2car/io/text_lines.hpp"
 
 namespace x2car::io {
@@ -31,7 +32,7 @@ struct Alias {
   Slot slot;
 };
 
-constexpr std::array<Alias, 30> kAliases{{
+constexpr std::array<Alias, 36> kAliases{{
     {"time", Slot::kTime},     {"time_s", Slot::kTime},  {"time_ns", Slot::kTime},
     {"x", Slot::kX},           {"east", Slot::kX},       {"y", Slot::kY},
     {"north", Slot::kY},       {"z", Slot::kZ},          {"up", Slot::kZ},
@@ -40,6 +41,8 @@ constexpr std::array<Alias, 30> kAliases{{
     {"vx", Slot::kVe},         {"ve", Slot::kVe},        {"v_east", Slot::kVe},
     {"vy", Slot::kVn},         {"vn", Slot::kVn},        {"v_north", Slot::kVn},
     {"vz", Slot::kVu},         {"vu", Slot::kVu},        {"v_up", Slot::kVu},
+    {"vel_e", Slot::kVe},      {"vel_n", Slot::kVn},     {"vel_u", Slot::kVu},
+    {"vel_east", Slot::kVe},   {"vel_north", Slot::kVn}, {"vel_up", Slot::kVu},
     {"roll", Slot::kRoll},     {"pitch", Slot::kPitch},  {"yaw", Slot::kYaw},
     {"heading", Slot::kYaw},   {"azimuth", Slot::kYaw},  {"status", Slot::kStatus},
 }};
@@ -112,6 +115,8 @@ std::optional<std::pair<Slot, Column>> match_column(std::string_view written, st
 struct Layout {
   std::size_t header_line = 0;
   std::size_t field_count = 0;
+  Delimiter delimiter = Delimiter::kAuto;
+  std::vector<std::string> ignored;  // header names the reader does not use, "'name' (column)"
   std::array<std::optional<Column>, kSlotCount> columns;
   bool geodetic = false;
   bool time_ns = false;
@@ -158,14 +163,18 @@ void check_required(const Layout& layout, const std::string& source) {
 
 Layout parse_header(const TextLine& header, const InsCsvOptions& options,
                     const std::string& source) {
-  const std::vector<std::string_view> names = split_fields(header.text);
   Layout layout;
+  layout.delimiter = detect_delimiter(header.text);
+  const std::vector<std::string_view> names = split_fields(header.text, layout.delimiter);
   layout.header_line = header.number;
   layout.field_count = names.size();
   std::optional<InputError> duplicate;  // reported after the missing columns
   for (std::size_t i = 0; i < names.size(); ++i) {
     std::optional<std::pair<Slot, Column>> match = match_column(names[i], i, options);
-    if (!match) continue;  // unknown columns are ignored
+    if (!match) {  // unknown columns are ignored, and named in a notice
+      layout.ignored.push_back(fmt::format("'{}' ({})", names[i], i + 1));
+      continue;
+    }
     std::optional<Column>& column = layout.columns[index_of(match->first)];
     if (column && !duplicate) {
       duplicate = InputError(source, header.number, std::string(names[i]),
@@ -205,13 +214,46 @@ struct ParsedRow {
   GeodeticPosition geodetic;
 };
 
+// Plausibility bounds of a row's values: far beyond any drive, close enough that a corrupt number
+// is caught at its line instead of overflowing a computation later.
+constexpr double kMaxPosition = 1e8;  // [m] of an ENU coordinate (UTM northings are below 1e7)
+constexpr double kMaxAltitude = 1e5;  // [m] above or below the WGS84 ellipsoid
+constexpr double kMaxSpeed = 1e3;     // [m/s] of a velocity component (3600 km/h)
+
 ParsedRow parse_row(const TextLine& line, const Layout& layout, const std::string& source) {
-  const std::vector<std::string_view> fields =
-      split_exact_fields(line, layout.field_count, source,
-                         fmt::format(" as in the header (line {})", layout.header_line));
+  const std::vector<std::string_view> fields = split_exact_fields(
+      line, layout.field_count, source,
+      fmt::format(" as in the header (line {})", layout.header_line), layout.delimiter);
   const auto where = [&](Slot s) { return FieldLocation{source, line.number, layout[s]->name}; };
   const auto value = [&](Slot s) {
     return parse_double(fields[layout[s]->index], where(s)) * layout[s]->scale;
+  };
+  // An angle read as radians beyond +-2 pi is surely in degrees (issue 11: such a file was
+  // reported downstream as "4912 reversing").
+  const auto angle = [&](Slot s) {
+    const double radians = value(s);
+    if (std::abs(radians) > 2.0 * kPi) {
+      const std::string_view text = fields[layout[s]->index];
+      throw InputError(
+          source, line.number, layout[s]->name,
+          layout[s]->scale == 1.0
+              ? fmt::format("{} is beyond +-2 pi, so not an angle in radians; if the column "
+                            "holds degrees, name it '{}_deg' or pass --angle-unit deg",
+                            text, layout[s]->alias)
+              : fmt::format("{} deg is beyond +-360 deg, not an angle", text));
+    }
+    return radians;
+  };
+  // Values no car's device reports (issue 11: 1e308 travelled on and came back as a 309-digit
+  // number): kMaxPosition, kMaxSpeed, kMaxAltitude.
+  const auto bounded = [&](Slot s, double limit, const char* unit) {
+    const double v = value(s);
+    if (std::abs(v) > limit) {
+      throw InputError(source, line.number, layout[s]->name,
+                       fmt::format("{} {} is beyond +-{} {}: not a plausible value",
+                                   fields[layout[s]->index], unit, format_number(limit), unit));
+    }
+    return v;
   };
   ParsedRow row;
   InsRecord& r = row.record;
@@ -221,19 +263,23 @@ ParsedRow parse_row(const TextLine& line, const Layout& layout, const std::strin
     r.time = value(Slot::kTime);
   }
   if (layout.geodetic) {
-    row.geodetic = {value(Slot::kLat), value(Slot::kLon), value(Slot::kAlt)};
+    row.geodetic = {value(Slot::kLat), bounded(Slot::kLon, 360.0, "deg"),
+                    bounded(Slot::kAlt, kMaxAltitude, "m")};
     if (std::abs(row.geodetic.latitude_deg) > 90.0) {
       throw InputError(source, line.number, layout[Slot::kLat]->name,
                        fmt::format("latitude {} deg is outside [-90, 90]",
                                    format_number(row.geodetic.latitude_deg)));
     }
   } else {
-    r.position_enu = {value(Slot::kX), value(Slot::kY), value(Slot::kZ)};
+    r.position_enu = {bounded(Slot::kX, kMaxPosition, "m"), bounded(Slot::kY, kMaxPosition, "m"),
+                      bounded(Slot::kZ, kMaxPosition, "m")};
   }
-  if (layout[Slot::kVe]) r.velocity_enu = {value(Slot::kVe), value(Slot::kVn), value(Slot::kVu)};
-  const double yaw = value(Slot::kYaw);
-  r.attitude = {value(Slot::kRoll), value(Slot::kPitch),
-                layout.yaw_is_azimuth ? heading_enu_from_azimuth(yaw) : yaw};
+  if (layout[Slot::kVe]) {
+    r.velocity_enu = {bounded(Slot::kVe, kMaxSpeed, "m/s"), bounded(Slot::kVn, kMaxSpeed, "m/s"),
+                      bounded(Slot::kVu, kMaxSpeed, "m/s")};
+  }
+  const double roll = angle(Slot::kRoll), pitch = angle(Slot::kPitch), yaw = angle(Slot::kYaw);
+  r.attitude = {roll, pitch, layout.yaw_is_azimuth ? heading_enu_from_azimuth(yaw) : yaw};
   if (layout[Slot::kStatus]) {
     r.status = parse_whole_number(fields[layout[Slot::kStatus]->index], where(Slot::kStatus));
   }
@@ -334,12 +380,24 @@ InsCsvLog parse_ins_csv_log(std::string_view text, const std::string& source_nam
   for (std::size_t i = 0; i < rows.size(); ++i) {
     InsRecord& record = log.records.emplace_back(rows[i].record);
     if (layout.time_ns) {
-      record.time = static_cast<double>(rows[i].time_ns - rows.front().time_ns) / 1e9;
+      record.time = seconds_between(rows[i].time_ns, rows.front().time_ns);
     }
     times.push_back(record.time);
     numbers.push_back(lines[i + 1].number);
   }
+  if (layout.time_ns) {
+    std::vector<double> unix_times;
+    for (const ParsedRow& row : rows) unix_times.push_back(static_cast<double>(row.time_ns) / 1e9);
+    check_one_clock(unix_times, numbers, source_name, layout[Slot::kTime]->name);
+  }
   check_increasing_times(times, numbers, source_name, layout[Slot::kTime]->name);
+  log.gaps = find_time_gaps(times, numbers);
+  if (!layout.ignored.empty()) {
+    log.notices.push_back(
+        fmt::format("{}:{}: ignored column(s) {}: x2car does not read them "
+                    "(docs/formats.md lists the names it reads)",
+                    source_name, layout.header_line, join(layout.ignored)));
+  }
   if (layout.time_ns) log.start_unix_time = static_cast<double>(rows.front().time_ns) / 1e9;
   if (layout.geodetic) log.enu_origin = to_local_enu(rows, log.records);
   return log;
@@ -355,11 +413,68 @@ std::vector<InsRecord> parse_ins_csv(std::string_view text, const std::string& s
   return parse_ins_csv_log(text, source_name, options).records;
 }
 
+std::vector<TimeGap> find_time_gaps(std::span<const double> times,
+                                    std::span<const std::size_t> lines) {
+  if (times.size() != lines.size()) {
+    throw std::invalid_argument("find_time_gaps: times and lines differ in size");
+  }
+  if (times.size() < 2) return {};
+  std::vector<double> steps(times.size() - 1);
+  for (std::size_t i = 1; i < times.size(); ++i) steps[i - 1] = times[i] - times[i - 1];
+  std::vector<double> sorted = steps;
+  const auto middle = sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2);
+  std::nth_element(sorted.begin(), middle, sorted.end());
+  const double threshold = std::max(kTimeGapMinSeconds, kTimeGapStepFactor * *middle);
+  std::vector<TimeGap> gaps;
+  for (std::size_t i = 1; i < times.size(); ++i) {
+    if (steps[i - 1] > threshold) {
+      gaps.push_back({i, lines[i - 1], lines[i], times[i - 1], times[i]});
+    }
+  }
+  return gaps;
+}
+
+std::string time_gap_notice(const TimeGap& gap, const std::string& source_name) {
+  return fmt::format(
+      "{}:{}: the time jumps forward by {} s (from {} s on line {} to {} s): the log has a gap "
+      "there (the device stopped, or two recordings were joined)",
+      source_name, gap.line_after, format_number(gap.seconds()), format_number(gap.time_before),
+      gap.line_before, format_number(gap.time_after));
+}
+
+void check_one_clock(std::span<const double> times, std::span<const std::size_t> lines,
+                     const std::string& source_name, const std::string& field) {
+  if (times.size() != lines.size()) {
+    throw std::invalid_argument("check_one_clock: times and lines differ in size");
+  }
+  constexpr double kRelativeBelow = 1e7;  // [s]
+  constexpr double kAbsoluteFrom = 1e8;   // [s]
+  std::optional<std::size_t> previous;    // the last row whose clock is clear
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    const double t = std::abs(times[i]);
+    if (t >= kRelativeBelow && t < kAbsoluteFrom) continue;
+    if (previous && (std::abs(times[*previous]) < kRelativeBelow) != (t < kRelativeBelow)) {
+      const auto kind = [](double time) {
+        return std::abs(time) < kRelativeBelow ? "a relative time"
+                                               : "an absolute (Unix or GPS) time";
+      };
+      throw InputError(
+          source_name, lines[i], field,
+          fmt::format("mixed clocks: {} s is {}, but {} s on line {} is {}; one log needs one "
+                      "clock (were two logs joined, or did the device switch clocks?)",
+                      format_number(times[i]), kind(times[i]), format_number(times[*previous]),
+                      lines[*previous], kind(times[*previous])));
+    }
+    previous = i;
+  }
+}
+
 void check_increasing_times(std::span<const double> times, std::span<const std::size_t> lines,
                             const std::string& source_name, const std::string& field) {
   if (times.size() != lines.size()) {
     throw std::invalid_argument("check_increasing_times: times and lines differ in size");
   }
+  check_one_clock(times, lines, source_name, field);
   std::size_t repeated = 0;
   std::size_t backwards = 0;
   std::size_t first = 0;  // index of the first offending row; 0 = none (row 0 cannot offend)

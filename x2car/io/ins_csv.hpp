@@ -74,6 +74,31 @@ struct InsCsvOptions {
   void Check() const;  // throws std::invalid_argument on an enumerator out of range
 };
 
+// A forward jump in a log's time stamps far beyond its rhythm: the device stopped logging, or two
+// recordings were joined. The records either side are kept; what to do with the gap (split the
+// track there) is the calibrator's business, and a jump must not cost it time or memory in
+// proportion to its length.
+struct TimeGap {
+  std::size_t record = 0;       // index of the first record after the gap
+  std::size_t line_before = 0;  // 1-based line of the record before the gap
+  std::size_t line_after = 0;   // 1-based line of the record after it (records[record])
+  double time_before = 0.0;     // [s] time of the record before the gap
+  double time_after = 0.0;      // [s] time of the record after it
+  double seconds() const { return time_after - time_before; }
+};
+
+// A step between consecutive records is a gap when it exceeds both kTimeGapMinSeconds and
+// kTimeGapStepFactor times the log's median step (a 100 Hz log: 5 s; a 1 Hz log: 50 s).
+constexpr double kTimeGapMinSeconds = 5.0;
+constexpr double kTimeGapStepFactor = 50.0;
+
+// The gaps in `times` (strictly increasing; `lines` holds each time's 1-based line number).
+std::vector<TimeGap> find_time_gaps(std::span<const double> times,
+                                    std::span<const std::size_t> lines);
+// "FILE:LINE: the time jumps forward by 604800 s (from 12.5 on line 1250 to 604812.5); ...": for
+// the CLI to print as a warning.
+std::string time_gap_notice(const TimeGap& gap, const std::string& source_name);
+
 // A generic CSV as read, with what the file says about its clocks and frames.
 struct InsCsvLog {
   // UTC of the first row [s since the Unix epoch] when the time column is `time_ns`; the records'
@@ -84,6 +109,9 @@ struct InsCsvLog {
   // are turned into the origin's axes (LocalEnuFrame::frame_from_local_level).
   std::optional<GeodeticPosition> enu_origin;
   std::vector<InsRecord> records;  // times strictly increasing
+  std::vector<TimeGap> gaps;       // forward jumps in the times (find_time_gaps)
+  // What the CLI should print as warnings: header columns the reader ignored (each named).
+  std::vector<std::string> notices;
 };
 
 // The header line the generic CSV starts with (without the line break).
@@ -108,9 +136,15 @@ std::vector<InsRecord> read_ins_csv(const std::filesystem::path& path,
 std::vector<InsRecord> parse_ins_csv(std::string_view text, const std::string& source_name,
                                      const InsCsvOptions& options = {});
 
-// Throws InputError unless `times` strictly increase. The message says how many rows repeat the
-// previous time and how many go back, and names the first offending line (`lines` holds each
-// time's 1-based line number) and `field`. Shared by the INS readers.
+// Throws InputError when `times` mix two clocks: relative times (|t| below 1e7 s, about 4 months)
+// and absolute ones (|t| from 1e8 s: Unix or GPS seconds), e.g. 12.3 then 1.7e9. The message names
+// the line where the clock changes and the line before it. Shared by the INS readers.
+void check_one_clock(std::span<const double> times, std::span<const std::size_t> lines,
+                     const std::string& source_name, const std::string& field);
+
+// Throws InputError (check_one_clock first) unless `times` strictly increase. The message says how
+// many rows repeat the previous time and how many go back, and names the first offending line
+// (`lines` holds each time's 1-based line number) and `field`. Shared by the INS readers.
 void check_increasing_times(std::span<const double> times, std::span<const std::size_t> lines,
                             const std::string& source_name, const std::string& field);
 

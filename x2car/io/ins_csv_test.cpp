@@ -2,6 +2,7 @@
 // novatel_csv_test.cpp).
 #include "x2car/io/ins_csv.hpp"
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -190,8 +191,11 @@ TEST(InsCsvErrors, MissingColumnsAreListedWithTheNamesAccepted) {
 TEST(InsCsvErrors, IncompleteVelocityIsRejected) {
   const InputError error =
       expect_csv_error("time,x,y,z,vx,vy,roll,pitch,yaw\n0,0,0,0,0,0,0,0,0\n", 1);
-  EXPECT_THAT(error.what(),
-              HasSubstr("'vz' or 'vu' or 'v_up' (velocity is optional, but needs all three)"));
+  EXPECT_THAT(
+      error.what(),
+      HasSubstr(
+          "'vz' or 'vu' or 'v_up' or 'vel_u' or 'vel_up' (velocity is optional, but needs all "
+          "three)"));
 }
 
 TEST(InsCsvErrors, TwoColumnsForOneQuantityAreRejected) {
@@ -233,6 +237,88 @@ TEST(InsCsvErrors, RepeatedAndBackwardTimesAreCountedAndLocated) {
       4, "time");
   EXPECT_THAT(error.what(), HasSubstr("2 row(s) repeat the previous time and 1 go back"));
   EXPECT_THAT(error.what(), HasSubstr("the first is line 4"));
+}
+
+// ---- issue 11: clear handling of what used to be silent or confusing ---------------------------
+
+TEST(InsCsvColumns, VelEVelNVelUAreVelocityAliases) {
+  for (const char* velocity : {"vel_e,vel_n,vel_u", "vel_east,vel_north,vel_up"}) {
+    const InsCsvLog log = parse_ins_csv_log(
+        std::string("time,x,y,z,") + velocity + ",roll,pitch,yaw\n0,1,2,3,4,5,6,0,0,0\n",
+        "ins.csv");
+    EXPECT_EQ(log.records[0].velocity_enu, Eigen::Vector3d(4, 5, 6)) << velocity;
+    EXPECT_TRUE(log.notices.empty()) << velocity;
+  }
+}
+
+TEST(InsCsvColumns, IgnoredColumnsAreNamedInANotice) {
+  const InsCsvLog log = parse_ins_csv_log(
+      "# a comment\ntime,x,y,z,speed,roll,pitch,yaw,vel_forward\n0,1,2,3,4,0,0,0,9\n", "ins.csv");
+  ASSERT_EQ(log.notices.size(), 1u);
+  EXPECT_THAT(log.notices[0], HasSubstr("ins.csv:2"));
+  EXPECT_THAT(log.notices[0], HasSubstr("'speed' (5), 'vel_forward' (9)"));
+}
+
+TEST(InsCsvColumns, SemicolonSeparatedFilesAreRead) {
+  const InsCsvLog log = parse_ins_csv_log(
+      "time;x;y;z;roll;pitch;yaw\n0;1;2;3;0.1;0.2;0.3\n1;4;5;6;0;0;0\n", "ins.csv");
+  ASSERT_EQ(log.records.size(), 2u);
+  EXPECT_EQ(log.records[1].position_enu, Eigen::Vector3d(4, 5, 6));
+  EXPECT_EQ(log.records[0].attitude.yaw, 0.3);
+  const InputError error = expect_csv_error("time;x;y;z;roll;pitch;yaw\n0;1;2;3;0;0\n", 2);
+  EXPECT_THAT(error.what(), HasSubstr("semicolon-separated"));
+}
+
+// Degrees in a column read as radians used to reach the calibrator ("4912 reversing").
+TEST(InsCsvErrors, AnglesBeyondTwoPiSuggestTheDegreeSuffix) {
+  const std::string header = "time,x,y,z,roll,pitch,yaw\n";
+  const InputError error =
+      expect_csv_error(header + "0,0,0,0,1,2,0.5\n1,0,0,0,1.5,-2,93.5\n", 3, "yaw");
+  EXPECT_THAT(error.what(), HasSubstr("93.5 is beyond +-2 pi"));
+  EXPECT_THAT(error.what(), HasSubstr("'yaw_deg'"));
+  EXPECT_THAT(error.what(), HasSubstr("--angle-unit deg"));
+  expect_csv_error(header + "0,0,0,0,-7,0,0\n", 2, "roll");
+  expect_csv_error("time,x,y,z,roll,pitch_deg,yaw\n0,0,0,0,0,400,0\n", 2, "pitch_deg");
+  EXPECT_NO_THROW(parse(header + "0,0,0,0,-6.28,6.28,3.2\n"));
+}
+
+// Relative times then Unix ones used to fail later as a P-spline "knot intervals" error.
+TEST(InsCsvErrors, MixedClocksAreRejectedAtTheLineWhereTheClockChanges) {
+  const std::string header = "time,x,y,z,roll,pitch,yaw\n";
+  const InputError error = expect_csv_error(
+      header + "12.3,0,0,0,0,0,0\n12.4,0,0,0,0,0,0\n1700000000.5,0,0,0,0,0,0\n", 4, "time");
+  EXPECT_THAT(error.what(), HasSubstr("mixed clocks"));
+  EXPECT_THAT(error.what(), HasSubstr("12.4 s on line 3"));
+  expect_csv_error(header + "1700000000.5,0,0,0,0,0,0\n12.3,0,0,0,0,0,0\n", 3, "time");
+  const InputError ns = expect_csv_error(
+      "time_ns,x,y,z,roll,pitch,yaw\n1700000000000000000,0,0,0,0,0,0\n12300000000,0,0,0,0,0,0\n", 3,
+      "time_ns");
+  EXPECT_THAT(ns.what(), HasSubstr("mixed clocks"));
+}
+
+TEST(InsCsvTimes, ForwardJumpsAreGapsWithTheirLines) {
+  std::string text = "time,x,y,z,roll,pitch,yaw\n";
+  for (int i = 0; i < 100; ++i) text += fmt::format("{},0,0,0,0,0,0\n", 0.01 * i);
+  for (int i = 0; i < 100; ++i) text += fmt::format("{},0,0,0,0,0,0\n", 604800.0 + 0.01 * i);
+  const InsCsvLog log = parse_ins_csv_log(text, "ins.csv");
+  ASSERT_EQ(log.gaps.size(), 1u);
+  EXPECT_EQ(log.gaps[0].record, 100u);
+  EXPECT_EQ(log.gaps[0].line_before, 101u);
+  EXPECT_EQ(log.gaps[0].line_after, 102u);
+  EXPECT_NEAR(log.gaps[0].seconds(), 604800.0 - 0.99, 1e-9);
+  EXPECT_THAT(time_gap_notice(log.gaps[0], "ins.csv"), HasSubstr("ins.csv:102"));
+}
+
+TEST(InsCsvTimes, GapsNeedBothTheMinimumAndManyMedianSteps) {
+  const std::vector<std::size_t> lines{1, 2, 3, 4, 5};
+  // 1 Hz with a 4 s dropout: not a gap (below 5 s).
+  EXPECT_TRUE(find_time_gaps(std::vector<double>{0, 1, 2, 6, 7}, lines).empty());
+  // 1 Hz with a 40 s stop: beyond 5 s but below 50 median steps.
+  EXPECT_TRUE(find_time_gaps(std::vector<double>{0, 1, 2, 42, 43}, lines).empty());
+  const std::vector<TimeGap> gaps = find_time_gaps(std::vector<double>{0, 1, 2, 62, 63}, lines);
+  ASSERT_EQ(gaps.size(), 1u);
+  EXPECT_EQ(gaps[0].record, 3u);
+  EXPECT_TRUE(find_time_gaps(std::vector<double>{5}, std::vector<std::size_t>{1}).empty());
 }
 
 TEST(InsCsvOptions, NamesRoundTripAndUnknownNamesAreRejected) {

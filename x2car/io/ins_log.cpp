@@ -48,12 +48,20 @@ InsLog from_text(std::string_view text, InsFormat format, const fs::path& path,
     NovatelLog novatel = parse_novatel_enu(text, path.string());
     log.start_unix_time = novatel.start_unix_time;
     log.records = std::move(novatel.records);
+    log.gaps = std::move(novatel.gaps);
     return log;
   }
   InsCsvLog csv = parse_ins_csv_log(text, path.string(), options.csv);
   log.start_unix_time = csv.start_unix_time;
   log.enu_origin = csv.enu_origin;
   log.records = std::move(csv.records);
+  log.gaps = std::move(csv.gaps);
+  log.notices = std::move(csv.notices);
+  return log;
+}
+
+InsLog with_gap_notices(InsLog log, const std::string& file) {
+  for (const TimeGap& gap : log.gaps) log.notices.push_back(time_gap_notice(gap, file));
   return log;
 }
 
@@ -92,12 +100,13 @@ InsLog read_ins_log(const fs::path& path, const InsReadOptions& options) {
     log.start_unix_time = oxts.start_unix_time;
     log.enu_origin = oxts.enu_origin;
     log.records = std::move(oxts.records);
-    return log;
+    log.gaps = std::move(oxts.gaps);
+    return with_gap_notices(std::move(log), (oxts_folder_of(path) / "timestamps.txt").string());
   }
   const std::string text = read_text_file(path);
   const InsFormat format =
       options.format == InsFormat::kAuto ? detect_text_format(text) : options.format;
-  return from_text(text, format, path, options);
+  return with_gap_notices(from_text(text, format, path, options), path.string());
 }
 
 }  // namespace x2car::io

@@ -38,6 +38,12 @@ struct InsLog {
   // with lat/lon/alt): the first record's position.
   std::optional<GeodeticPosition> enu_origin;
   std::vector<InsRecord> records;  // times [s], strictly increasing
+  // Forward jumps in the times far beyond the log's rhythm (find_time_gaps): where a calibrator
+  // should split the track. Lines are of the log file (OXTS: of timestamps.txt).
+  std::vector<TimeGap> gaps;
+  // What the CLI should print as warnings, each naming the file and line: every time gap and the
+  // generic CSV's ignored header columns.
+  std::vector<std::string> notices;
 };
 
 // The form of `path` as kAuto would read it (reads only the file's first line with content).

@@ -2,6 +2,7 @@
 // round trip, and format names.
 #include "x2car/io/ins_log.hpp"
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -158,6 +159,25 @@ TEST_F(InsLogTest, OptionsChooseTheFormAndReachTheCsvReader) {
   options.format = InsFormat::kCsv;
   expect_input_error([&] { read_ins_log(write_oxts_drive(), options); }, (dir_ / "drive").string(),
                      0);
+}
+
+// A one-week jump is a gap the log reports with its file and line, for the CLI to warn about and a
+// calibrator to split at; the reader's cost follows the rows, not the span.
+TEST_F(InsLogTest, TimeJumpsBecomeGapsAndNotices) {
+  std::string text = "time,x,y,z,vel_e,vel_n,vel_u,roll,pitch,yaw,speed\n";
+  for (int i = 0; i < 200; ++i) {
+    const double t = 0.01 * i + (i >= 150 ? 604800.0 : 0.0);
+    text += fmt::format("{},0,0,0,1,0,0,0,0,0,1\n", t);
+  }
+  const fs::path path = write("week.csv", text);
+  const InsLog log = read_ins_log(path);
+  ASSERT_EQ(log.gaps.size(), 1u);
+  EXPECT_EQ(log.gaps[0].record, 150u);
+  EXPECT_EQ(log.gaps[0].line_after, 152u);
+  EXPECT_EQ(log.records[0].velocity_enu, Eigen::Vector3d(1, 0, 0));
+  ASSERT_EQ(log.notices.size(), 2u);  // the ignored column, then the gap
+  EXPECT_THAT(log.notices[0], HasSubstr("'speed' (11)"));
+  EXPECT_THAT(log.notices[1], HasSubstr(path.string() + ":152: the time jumps forward by"));
 }
 
 TEST_F(InsLogTest, MissingPathIsAnInputError) {

@@ -5,6 +5,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "x2car/core/error.hpp"
@@ -198,7 +199,18 @@ std::optional<std::int64_t> parse_utc_time(std::string_view text) {
   }
   const std::int64_t days = days_from_civil({*year, *month, *day});
   const std::int64_t seconds = days * kSecondsPerDay + *hour * 3600 + *minute * 60 + *second;
+  // One second short of the int64 range, so that adding the fraction cannot overflow either.
+  constexpr std::int64_t kMaxSeconds = std::numeric_limits<std::int64_t>::max() / kNsPerSecond - 1;
+  if (seconds > kMaxSeconds || seconds < -kMaxSeconds) return std::nullopt;
   return seconds * kNsPerSecond + *fraction_ns;
+}
+
+double seconds_between(std::int64_t later_ns, std::int64_t earlier_ns) {
+  std::int64_t difference_ns = 0;
+  if (__builtin_sub_overflow(later_ns, earlier_ns, &difference_ns)) {
+    return (static_cast<double>(later_ns) - static_cast<double>(earlier_ns)) / 1e9;
+  }
+  return static_cast<double>(difference_ns) / 1e9;
 }
 
 double gps_seconds_of_week(std::int64_t unix_time_ns) {
@@ -243,12 +255,13 @@ NovatelLog parse_novatel_enu(std::string_view text, const std::string& source_na
   for (std::size_t i = 1; i < lines.size(); ++i) {
     ParsedRow row = parse_row(lines[i], source_name);
     if (i == 1) first_ns = row.unix_time_ns;
-    row.record.time = static_cast<double>(row.unix_time_ns - first_ns) / 1e9;
+    row.record.time = seconds_between(row.unix_time_ns, first_ns);
     times.push_back(row.record.time);
     numbers.push_back(lines[i].number);
     log.records.push_back(row.record);
   }
   check_increasing_times(times, numbers, source_name, kFields[0]);
+  log.gaps = find_time_gaps(times, numbers);
   log.start_unix_time = static_cast<double>(first_ns) / 1e9;
   return log;
 }

@@ -43,8 +43,13 @@ std::span<const char* const> novatel_field_names();
 std::string format_utc_time(std::int64_t unix_time_ns);
 
 // The instant [ns since the Unix epoch] of "YYYY-MM-DD HH:MM:SS[.f...]" (UTC; 'T' may separate
-// date and time; 1 to 9 fraction digits); nullopt when the text is not such a valid date-time.
+// date and time; 1 to 9 fraction digits); nullopt when the text is not such a valid date-time or
+// lies outside what an int64 of nanoseconds holds (1677-09-21 to 2262-04-11).
 std::optional<std::int64_t> parse_utc_time(std::string_view text);
+
+// (later_ns - earlier_ns) / 1e9 [s], exact to the nanosecond when the difference fits an int64 and
+// without a signed overflow when it does not (stamps read from a file may be any int64).
+double seconds_between(std::int64_t later_ns, std::int64_t earlier_ns);
 
 // GPS seconds of week [s] of a UTC instant: (unix - GPS epoch + 18 s) mod 604800.
 double gps_seconds_of_week(std::int64_t unix_time_ns);
@@ -52,6 +57,7 @@ double gps_seconds_of_week(std::int64_t unix_time_ns);
 struct NovatelLog {
   double start_unix_time = 0.0;    // UTC of the first row [s since the Unix epoch]
   std::vector<InsRecord> records;  // times [s] relative to the first row; yaw in ENU
+  std::vector<TimeGap> gaps;       // forward jumps in the times (find_time_gaps)
 };
 
 // Row i is stamped start_unix_time + records[i].time (rounded to the microsecond); positions and

@@ -97,15 +97,17 @@ std::vector<fs::path> list_data_files(const fs::path& data) {
   return files;
 }
 
-// Relative times [s] after checking they strictly increase.
-std::vector<double> relative_times(std::span<const Stamp> stamps, const fs::path& file) {
+// Relative times [s] after checking they strictly increase, and their gaps.
+std::vector<double> relative_times(std::span<const Stamp> stamps, const fs::path& file,
+                                   std::vector<TimeGap>& gaps) {
   std::vector<double> times;
   std::vector<std::size_t> lines;
   for (const Stamp& stamp : stamps) {
-    times.push_back(static_cast<double>(stamp.unix_time_ns - stamps.front().unix_time_ns) / 1e9);
+    times.push_back(seconds_between(stamp.unix_time_ns, stamps.front().unix_time_ns));
     lines.push_back(stamp.line);
   }
   check_increasing_times(times, lines, file.string(), "timestamp");
+  gaps = find_time_gaps(times, lines);
   return times;
 }
 
@@ -139,9 +141,9 @@ OxtsLog read_oxts_folder(const fs::path& folder) {
                      fmt::format("{} timestamps but {} data files in {}", stamps.size(),
                                  files.size(), data.string()));
   }
-  const std::vector<double> times = relative_times(stamps, timestamps_file);
-
   OxtsLog log;
+  const std::vector<double> times = relative_times(stamps, timestamps_file, log.gaps);
+
   log.start_unix_time = static_cast<double>(stamps.front().unix_time_ns) / 1e9;
   std::optional<LocalEnuFrame> frame;
   for (std::size_t i = 0; i < files.size(); ++i) {

@@ -35,6 +35,7 @@ struct OxtsLog {
   double start_unix_time = 0.0;    // UTC of the first packet [s since the Unix epoch]
   GeodeticPosition enu_origin;     // the first packet's position: the origin of position_enu
   std::vector<InsRecord> records;  // times [s] from the first packet, strictly increasing
+  std::vector<TimeGap> gaps;       // forward jumps in the times; lines of timestamps.txt
 };
 
 // The folder holding data/ and timestamps.txt: `folder`/oxts when that is a directory, else

@@ -272,6 +272,7 @@ class DataReader {
                                        "(more than 4 GiB unpacked)",
                                        n, header_.point_bytes));
         }
+        check_compressed_sizes(read_compressed_sizes());
         return;
       case DataKind::kAscii:
         // A point takes several bytes of text, so more points than bytes is surely wrong; a claim
@@ -294,28 +295,61 @@ class DataReader {
     });
   }
 
-  void read_compressed() {
+  // The two uint32 before the LZF block: its compressed and its unpacked size [bytes].
+  struct CompressedSizes {
+    std::uint32_t compressed = 0, unpacked = 0;
+  };
+
+  CompressedSizes read_compressed_sizes() const {
     const std::string_view data = bytes_.substr(header_.data_offset);
-    const std::size_t needed = header_.points * header_.point_bytes;
     if (data.size() < 8) {
       throw InputError(
           file_, header_.data_line, "DATA",
           fmt::format("binary_compressed data of {} bytes lacks its 8-byte sizes", data.size()));
     }
-    std::uint32_t compressed_size = 0, uncompressed_size = 0;
-    std::memcpy(&compressed_size, data.data(), 4);
-    std::memcpy(&uncompressed_size, data.data() + 4, 4);
-    if (uncompressed_size != needed) {
+    CompressedSizes sizes;
+    std::memcpy(&sizes.compressed, data.data(), 4);
+    std::memcpy(&sizes.unpacked, data.data() + 4, 4);
+    return sizes;
+  }
+
+  // Every size the header and the block claim, against each other and against the file's bytes,
+  // before anything is allocated for them: the points (24 bytes each in memory) and the unpacked
+  // block then cost at most a fixed multiple of the file's size. Compared by division, so a huge
+  // POINTS cannot wrap a product around.
+  void check_compressed_sizes(const CompressedSizes& sizes) const {
+    const std::size_t available = bytes_.size() - header_.data_offset - 8;
+    const std::size_t n = header_.points;
+    if (header_.point_bytes > 0 && n > sizes.unpacked / header_.point_bytes) {
+      throw InputError(file_, header_.data_line, "DATA",
+                       fmt::format("binary_compressed data unpacks to {} bytes; POINTS {} of {} "
+                                   "bytes each need more",
+                                   sizes.unpacked, n, header_.point_bytes));
+    }
+    if (n * header_.point_bytes != sizes.unpacked) {
       throw InputError(file_, header_.data_line, "DATA",
                        fmt::format("binary_compressed data unpacks to {} bytes; POINTS {} need {}",
-                                   uncompressed_size, header_.points, needed));
+                                   sizes.unpacked, n, n * header_.point_bytes));
     }
-    if (data.size() - 8 < compressed_size) {
+    if (available < sizes.compressed) {
       throw InputError(file_, header_.data_line, "DATA",
                        fmt::format("the data is truncated: {} bytes of LZF data, the header of "
                                    "the block says {}",
-                                   data.size() - 8, compressed_size));
+                                   available, sizes.compressed));
     }
+    if (sizes.unpacked / kLzfMaxExpansion > sizes.compressed) {
+      throw InputError(file_, header_.data_line, "DATA",
+                       fmt::format("binary_compressed sizes are corrupt: {} bytes of LZF data "
+                                   "cannot unpack to {} bytes (LZF expands at most {}-fold)",
+                                   sizes.compressed, sizes.unpacked, kLzfMaxExpansion));
+    }
+  }
+
+  void read_compressed() {
+    const std::string_view data = bytes_.substr(header_.data_offset);
+    const CompressedSizes sizes = read_compressed_sizes();  // checked by check_points_fit
+    const std::size_t needed = sizes.unpacked;
+    const std::uint32_t compressed_size = sizes.compressed;
     std::vector<char> fields(needed);
     if (needed > 0 && lzf_decompress(data.data() + 8, compressed_size, fields.data(),
                                      static_cast<unsigned>(needed)) != needed) {
@@ -377,6 +411,8 @@ class DataReader {
   }
 
   static constexpr double kAbsoluteTime = 1e4;  // [s] times at least this large are absolute
+  // LZF's longest back reference packs 264 bytes into 3 (88-fold); 100 leaves a margin.
+  static constexpr std::size_t kLzfMaxExpansion = 100;
 
   std::string_view bytes_;
   const PcdHeader& header_;

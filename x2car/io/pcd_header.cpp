@@ -13,6 +13,10 @@
 namespace x2car::io::detail {
 namespace {
 
+// The largest point record accepted [bytes]: far beyond any LiDAR's (PCL's own are below 100), and
+// small enough that no product of it with a point count read from the file can overflow unnoticed.
+constexpr std::size_t kMaxPointBytes = std::size_t{1} << 20;
+
 class HeaderParser {
  public:
   HeaderParser(std::string_view bytes, const std::string& file) : bytes_(bytes), file_(file) {}
@@ -134,6 +138,12 @@ class HeaderParser {
       check_type(field);
       if (field.count == 0)
         fail_at(header_.count_line, "COUNT", "field '{}' has COUNT 0", field.name);
+      // A corrupt COUNT must not wrap the record size around (the size then drives allocations).
+      if (field.count > (kMaxPointBytes - header_.point_bytes) / field.size) {
+        fail_at(header_.count_line, "COUNT",
+                "field '{}' with COUNT {} makes a point record larger than {} bytes", field.name,
+                field.count, kMaxPointBytes);
+      }
       field.offset = header_.point_bytes;
       field.column = header_.tokens;
       header_.point_bytes += field.size * field.count;

@@ -146,6 +146,41 @@ TEST(Pcd, HugePointCountsAreRefusedBeforeAllocating) {
   expect_input_error([&] { parse_pcd(wrapping, "wrap.pcd"); }, "wrap.pcd", 4, "WIDTH");
 }
 
+// The 300-byte file: a binary_compressed header whose POINTS and block sizes agree on 4 GB
+// of points while the file holds 200 bytes. It used to allocate 4.6 GB, then std::bad_alloc naming
+// no file; the sizes are now checked against the bytes there are first.
+TEST(Pcd, CompressedSizesBeyondTheFileAreRefusedBeforeAllocating) {
+  const std::size_t points = 190000000;  // 22 bytes each: 4.18e9 bytes unpacked, below 4 GiB
+  std::string text = "FIELDS x y z intensity ring t\nSIZE 4 4 4 4 2 4\nTYPE F F F F U F\nWIDTH " +
+                     std::to_string(points) + "\nHEIGHT 1\nDATA binary_compressed\n";
+  const std::uint32_t compressed = 200;
+  const auto unpacked = static_cast<std::uint32_t>(points * 22);
+  text.append(reinterpret_cast<const char*>(&compressed), 4);
+  text.append(reinterpret_cast<const char*>(&unpacked), 4);
+  text.append(compressed, '\x01');
+  const InputError error =
+      expect_input_error([&] { parse_pcd(text, "bomb.pcd"); }, "bomb.pcd", 6, "DATA");
+  EXPECT_THAT(error.what(), HasSubstr("cannot unpack to 4180000000 bytes"));
+}
+
+// LZF's real best case stays within the bound the check above assumes.
+TEST(Pcd, CompressedAllZeroCloudStillReads) {
+  PointCloud cloud;
+  cloud.points.resize(200000);
+  const PointCloud read = parse_pcd(format_pcd(cloud, PcdEncoding::kBinaryCompressed), "zeros.pcd");
+  EXPECT_EQ(read.points.size(), cloud.points.size());
+}
+
+// A COUNT large enough to wrap SIZE x COUNT around used to give a tiny point record and pass.
+TEST(Pcd, HugeCountIsRefusedAtTheCountLine) {
+  const std::string text =
+      "FIELDS x y z pad\nSIZE 4 4 4 8\nTYPE F F F U\nCOUNT 1 1 1 2305843009213693952\n"
+      "WIDTH 1\nHEIGHT 1\nDATA binary\n";
+  const InputError error =
+      expect_input_error([&] { parse_pcd(text, "count.pcd"); }, "count.pcd", 4, "COUNT");
+  EXPECT_THAT(error.what(), HasSubstr("'pad'"));
+}
+
 TEST(Pcd, TruncatedAsciiDataSaysHowManyPointsCame) {
   const std::string text =
       "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 3\nHEIGHT 1\nDATA ascii\n"

@@ -17,23 +17,31 @@ struct ContiColumns {
   std::size_t count = 0;           // fields per row
   std::optional<std::size_t> rcs;  // index of the optional columns
   std::optional<std::size_t> meas_state;
+  std::vector<std::string> ignored;  // other columns, "'name' (column)"
 };
 
 ContiColumns parse_header(const TextLine& line, const std::string& source) {
   const std::vector<std::string_view> names = split_fields(line.text);
   for (std::size_t i = 0; i < kRequired.size(); ++i) {
     if (i >= names.size() || names[i] != kRequired[i]) {
+      const std::string found =
+          i < names.size() ? fmt::format("is '{}'", names[i]) : std::string("is missing");
       throw InputError(source, line.number, field_index(i),
                        fmt::format("expected a header starting with "
-                                   "'time_ns,track_id,vx,vy,px,py' (column {} is '{}')",
-                                   i + 1, kRequired[i]));
+                                   "'time_ns,track_id,vx,vy,px,py': column {} {}, expected '{}'",
+                                   i + 1, found, kRequired[i]));
     }
   }
   ContiColumns columns;
   columns.count = names.size();
   for (std::size_t i = kRequired.size(); i < names.size(); ++i) {
-    if (names[i] == "rcs") columns.rcs = i;
-    if (names[i] == "meas_state") columns.meas_state = i;
+    if (names[i] == "rcs") {
+      columns.rcs = i;
+    } else if (names[i] == "meas_state") {
+      columns.meas_state = i;
+    } else {
+      columns.ignored.push_back(fmt::format("'{}' ({})", names[i], i + 1));
+    }
   }
   return columns;
 }
@@ -50,11 +58,16 @@ StampedRadarDetection parse_row(const TextLine& line, const ContiColumns& column
   row.unix_time_ns = parse_integer(f[0], where(0));
   RadarDetection& d = row.detection;
   d.track_id = parse_radar_track_id(f[1], where(1), kContiMaxTrackId);
+  const auto bounded = [&](std::size_t i, double limit, const char* unit) {
+    const double v = parse_double(f[i], where(i));
+    check_radar_bound(v, limit, f[i], unit, where(i));
+    return v;
+  };
   d.has_velocity = true;
-  d.vx = parse_double(f[2], where(2));
-  d.vy = parse_double(f[3], where(3));
-  d.x = parse_double(f[4], where(4));
-  d.y = parse_double(f[5], where(5));
+  d.vx = bounded(2, kRadarMaxSpeed, "m/s");
+  d.vy = bounded(3, kRadarMaxSpeed, "m/s");
+  d.x = bounded(4, kRadarMaxRange, "m");
+  d.y = bounded(5, kRadarMaxRange, "m");
   set_polar_from_cartesian(d);
   if (columns.rcs && !f[*columns.rcs].empty())
     d.rcs_dbsm = parse_double(f[*columns.rcs], where(*columns.rcs));
@@ -86,13 +99,21 @@ void write_conti_radar(const std::filesystem::path& folder,
                          });
 }
 
-std::vector<StampedRadarDetection> parse_conti_scan(std::string_view text,
-                                                    const std::string& source_name) {
+namespace {
+
+struct ContiScan {
+  std::vector<StampedRadarDetection> rows;
+  std::size_t header_line = 0;
+  std::vector<std::string> ignored;  // header columns the reader does not use
+};
+
+ContiScan parse_scan(std::string_view text, const std::string& source_name) {
   const std::vector<TextLine> lines = split_lines(text);
   if (lines.empty()) throw InputError(source_name, "empty file, expected a header line");
   const ContiColumns columns = parse_header(lines.front(), source_name);
   const std::vector<std::string_view> names = split_fields(lines.front().text);
-  std::vector<StampedRadarDetection> rows;
+  ContiScan scan{{}, lines.front().number, columns.ignored};
+  std::vector<StampedRadarDetection>& rows = scan.rows;
   for (std::size_t i = 1; i < lines.size(); ++i) {
     rows.push_back(parse_row(lines[i], columns, names, source_name));
     if (i == 1) continue;
@@ -104,17 +125,30 @@ std::vector<StampedRadarDetection> parse_conti_scan(std::string_view text,
                                    rows.back().detection.track_id, previous.detection.track_id));
     }
   }
-  return rows;
+  return scan;
+}
+
+}  // namespace
+
+std::vector<StampedRadarDetection> parse_conti_scan(std::string_view text,
+                                                    const std::string& source_name) {
+  return parse_scan(text, source_name).rows;
 }
 
 RadarLog read_conti_radar(const std::filesystem::path& folder) {
   std::vector<StampedRadarDetection> rows;
+  std::optional<std::string> notice;  // about the first file with columns the reader ignores
   for (const RadarScanFile& file : list_radar_scan_files(folder)) {
-    std::vector<StampedRadarDetection> scan =
-        parse_conti_scan(read_text_file(file.path), file.path.string());
-    rows.insert(rows.end(), scan.begin(), scan.end());
+    ContiScan scan = parse_scan(read_text_file(file.path), file.path.string());
+    rows.insert(rows.end(), scan.rows.begin(), scan.rows.end());
+    if (!notice && !scan.ignored.empty()) {
+      notice = fmt::format("{}:{}: ignored column(s) {}: x2car does not read them",
+                           file.path.string(), scan.header_line, join(scan.ignored));
+    }
   }
-  return make_radar_log(std::move(rows));
+  RadarLog log = make_radar_log(std::move(rows));
+  if (notice) log.notices.push_back(*notice);
+  return log;
 }
 
 }  // namespace x2car::io

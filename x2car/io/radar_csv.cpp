@@ -11,6 +11,8 @@
 
 #include "x2car/core/enum_names.hpp"
 #include "x2car/core/error.hpp"
+#include "x2car/core/options_check.hpp"
+#include "x2car/core/rotation.hpp"
 #include "x2car/io/novatel_csv.hpp"
 #include "x2car/io/radar_conti.hpp"
 #include "x2car/io/radar_delphi.hpp"
@@ -36,18 +38,29 @@ std::int64_t floor_div(std::int64_t a, std::int64_t b) {
 
 struct GenericColumns {
   std::size_t count = 0;  // fields per row
+  Delimiter delimiter = Delimiter::kAuto;
+  AngleUnit azimuth_unit = AngleUnit::kRadians;
+  std::vector<std::string> ignored;  // columns the reader does not use, "'name' (column)"
   std::map<std::string, std::size_t, std::less<>> index;
   bool has(std::string_view name) const { return index.find(name) != index.end(); }
   std::size_t at(std::string_view name) const { return index.find(name)->second; }
 };
 
+constexpr std::array<std::string_view, 10> kGenericColumns{
+    "time", "track_id", "range", "azimuth", "range_rate", "x", "y", "vx", "vy", "rcs"};
+
 GenericColumns parse_generic_header(const TextLine& line, const std::string& source) {
   GenericColumns columns;
-  const std::vector<std::string_view> names = split_fields(line.text);
+  columns.delimiter = detect_delimiter(line.text);
+  const std::vector<std::string_view> names = split_fields(line.text, columns.delimiter);
   columns.count = names.size();
   for (std::size_t i = 0; i < names.size(); ++i) {
     if (!columns.index.emplace(std::string(names[i]), i).second) {
       throw InputError(source, line.number, std::string(names[i]), "duplicated column");
+    }
+    if (std::find(kGenericColumns.begin(), kGenericColumns.end(), names[i]) ==
+        kGenericColumns.end()) {
+      columns.ignored.push_back(fmt::format("'{}' ({})", names[i], i + 1));
     }
   }
   for (const char* required : {"time", "range", "azimuth", "range_rate"}) {
@@ -79,8 +92,8 @@ int parse_generic_track_id(std::string_view text, const FieldLocation& where) {
 
 RadarDetection parse_generic_row(const TextLine& line, const GenericColumns& columns,
                                  const std::string& source) {
-  const std::vector<std::string_view> f =
-      split_exact_fields(line, columns.count, source, " (as many as the header names)");
+  const std::vector<std::string_view> f = split_exact_fields(
+      line, columns.count, source, " (as many as the header names)", columns.delimiter);
   const auto where = [&](std::string_view name) {
     return FieldLocation{source, line.number, std::string(name)};
   };
@@ -90,13 +103,27 @@ RadarDetection parse_generic_row(const TextLine& line, const GenericColumns& col
   RadarDetection d;
   d.time = number("time");
   d.range = number("range");
+  if (d.range < 0.0) {
+    throw InputError(source, line.number, "range",
+                     fmt::format("range must not be negative, found {}", f[columns.at("range")]));
+  }
+  check_radar_bound(d.range, kRadarMaxRange, f[columns.at("range")], "m", where("range"));
   d.azimuth = number("azimuth");
+  if (columns.azimuth_unit == AngleUnit::kDegrees) d.azimuth = rad_from_deg(d.azimuth);
+  check_radar_azimuth(d.azimuth, f[columns.at("azimuth")], columns.azimuth_unit, where("azimuth"));
   d.range_rate = number("range_rate");
+  check_radar_bound(d.range_rate, kRadarMaxSpeed, f[columns.at("range_rate")], "m/s",
+                    where("range_rate"));
   if (columns.has("track_id")) {
     d.track_id = parse_generic_track_id(f[columns.at("track_id")], where("track_id"));
   }
-  d.x = columns.has("x") ? number("x") : d.range * std::cos(d.azimuth);
-  d.y = columns.has("y") ? number("y") : d.range * std::sin(d.azimuth);
+  const auto bounded = [&](std::string_view name, double limit, const char* unit) {
+    const double v = number(name);
+    check_radar_bound(v, limit, f[columns.at(name)], unit, where(name));
+    return v;
+  };
+  d.x = columns.has("x") ? bounded("x", kRadarMaxRange, "m") : d.range * std::cos(d.azimuth);
+  d.y = columns.has("y") ? bounded("y", kRadarMaxRange, "m") : d.range * std::sin(d.azimuth);
   if (columns.has("vx")) {
     const bool vx_empty = f[columns.at("vx")].empty();
     if (vx_empty != f[columns.at("vy")].empty()) {
@@ -105,8 +132,8 @@ RadarDetection parse_generic_row(const TextLine& line, const GenericColumns& col
     }
     if (!vx_empty) {
       d.has_velocity = true;
-      d.vx = number("vx");
-      d.vy = number("vy");
+      d.vx = bounded("vx", kRadarMaxSpeed, "m/s");
+      d.vy = bounded("vy", kRadarMaxSpeed, "m/s");
     }
   }
   if (columns.has("rcs") && !f[columns.at("rcs")].empty()) d.rcs_dbsm = number("rcs");
@@ -125,7 +152,65 @@ std::string format_generic_row(const RadarDetection& d) {
                      optional_number(d.rcs_dbsm.has_value(), d.rcs_dbsm.value_or(0.0)));
 }
 
+RadarLog read_radar_layout(const std::filesystem::path& input, RadarLayout layout,
+                           AngleUnit angle_unit) {
+  switch (layout) {
+    case RadarLayout::kConti:
+      return read_conti_radar(input);
+    case RadarLayout::kDelphi:
+      return read_delphi_radar(input, angle_unit);
+    case RadarLayout::kGeneric: {
+      std::error_code error;
+      const bool folder = std::filesystem::is_directory(input, error);
+      return read_radar_csv(folder ? input / kRadarCsvFileName : input, angle_unit);
+    }
+  }
+  throw std::invalid_argument("unknown radar layout");
+}
+
+// `error` from reading `input` as `layout`, with a hint when the files look like another layout.
+InputError with_layout_hint(const InputError& error, const std::filesystem::path& input,
+                            RadarLayout layout) {
+  RadarLayout looks_like = layout;
+  try {
+    looks_like = detect_radar_layout(input);
+  } catch (const std::exception&) {
+    return error;  // no better guess
+  }
+  if (looks_like == layout) return error;
+  // what() is the location, then ": ", then the message; the location alone is what an empty
+  // message gives.
+  const std::string_view what = error.what();
+  const std::size_t location =
+      std::string_view(InputError(error.file(), error.line(), error.field(), "").what()).size();
+  return InputError(
+      error.file(), error.line(), error.field(),
+      fmt::format("{}; the files look like the {} layout: pass --layout {} (or "
+                  "auto)",
+                  what.substr(location), to_string(looks_like), to_string(looks_like)));
+}
+
 }  // namespace
+
+void check_radar_bound(double value, double limit, std::string_view text, std::string_view unit,
+                       const FieldLocation& where) {
+  if (std::abs(value) <= limit) return;
+  throw InputError(where.file, where.line, where.field,
+                   fmt::format("{} {} is beyond +-{} {}: not a plausible value", text, unit,
+                               format_number(limit), unit));
+}
+
+void check_radar_azimuth(double azimuth, std::string_view text, AngleUnit unit,
+                         const FieldLocation& where) {
+  constexpr double kMargin = 1e-9;  // [rad] rounding of a value written at +-pi
+  if (std::abs(azimuth) <= kPi + kMargin) return;
+  throw InputError(where.file, where.line, where.field,
+                   unit == AngleUnit::kRadians
+                       ? fmt::format("{} is beyond +-pi, so not an azimuth in radians; if the "
+                                     "layout holds degrees, pass --angle-unit deg",
+                                     text)
+                       : fmt::format("{} deg is beyond +-180 deg", text));
+}
 
 constexpr std::array<EnumName<RadarLayout>, 3> kRadarLayoutNames{{
     {RadarLayout::kConti, "conti"},
@@ -215,7 +300,7 @@ RadarLog make_radar_log(std::vector<StampedRadarDetection> rows) {
   log.start_unix_time = static_cast<double>(first_ns) / 1e9;
   log.detections.reserve(rows.size());
   for (StampedRadarDetection& row : rows) {
-    row.detection.time = static_cast<double>(row.unix_time_ns - first_ns) / 1e9;
+    row.detection.time = seconds_between(row.unix_time_ns, first_ns);
     log.detections.push_back(std::move(row.detection));
   }
   return log;
@@ -284,18 +369,29 @@ void write_radar_csv(const std::filesystem::path& path,
   write_text_file(path, format_radar_csv(detections));
 }
 
-RadarLog read_radar_csv(const std::filesystem::path& path) {
-  return parse_radar_csv(read_text_file(path), path.string());
+RadarLog read_radar_csv(const std::filesystem::path& path, AngleUnit azimuth_unit) {
+  return parse_radar_csv(read_text_file(path), path.string(), azimuth_unit);
 }
 
-RadarLog parse_radar_csv(std::string_view text, const std::string& source_name) {
+RadarLog parse_radar_csv(std::string_view text, const std::string& source_name,
+                         AngleUnit azimuth_unit) {
   const std::vector<TextLine> lines = split_lines(text);
   if (lines.empty()) throw InputError(source_name, "empty file, expected a header line");
-  const GenericColumns columns = parse_generic_header(lines.front(), source_name);
+  GenericColumns columns = parse_generic_header(lines.front(), source_name);
+  columns.azimuth_unit = azimuth_unit;
   if (lines.size() == 1) throw InputError(source_name, "no data rows after the header");
   RadarLog log;
+  std::vector<double> times;
+  std::vector<std::size_t> numbers;
   for (std::size_t i = 1; i < lines.size(); ++i) {
     log.detections.push_back(parse_generic_row(lines[i], columns, source_name));
+    times.push_back(log.detections.back().time);
+    numbers.push_back(lines[i].number);
+  }
+  check_one_clock(times, numbers, source_name, "time");
+  if (!columns.ignored.empty()) {
+    log.notices.push_back(fmt::format("{}:{}: ignored column(s) {}: x2car does not read them",
+                                      source_name, lines.front().number, join(columns.ignored)));
   }
   std::stable_sort(
       log.detections.begin(), log.detections.end(),
@@ -321,18 +417,59 @@ void write_radar(const std::filesystem::path& folder, RadarLayout layout,
 }
 
 RadarLog read_radar(const std::filesystem::path& input, RadarLayout layout) {
-  switch (layout) {
-    case RadarLayout::kConti:
-      return read_conti_radar(input);
-    case RadarLayout::kDelphi:
-      return read_delphi_radar(input);
-    case RadarLayout::kGeneric: {
-      std::error_code error;
-      const bool folder = std::filesystem::is_directory(input, error);
-      return read_radar_csv(folder ? input / kRadarCsvFileName : input);
-    }
+  RadarReadOptions options;
+  options.layout = layout;
+  return read_radar(input, options);
+}
+
+RadarLayout detect_radar_layout(const std::filesystem::path& input) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  if (!fs::exists(input, error)) throw InputError(input.string(), "no such file or folder");
+  if (!fs::is_directory(input, error) || fs::exists(input / kRadarCsvFileName, error)) {
+    return RadarLayout::kGeneric;
   }
-  throw std::invalid_argument("unknown radar layout");
+  const RadarScanFile first = list_radar_scan_files(input).front();
+  const std::string text = read_text_file(first.path);
+  const std::vector<TextLine> lines = split_lines(text);
+  if (lines.empty()) {
+    throw InputError(first.path.string(),
+                     "cannot tell the radar layout: the first scan file is empty; pass --layout");
+  }
+  const std::vector<std::string_view> fields = split_fields(lines.front().text);
+  if (fields.size() >= 3 && fields[0] == "time_ns" && fields[1] == "track_id" &&
+      fields[2] == "vx") {
+    return RadarLayout::kConti;
+  }
+  if (fields.size() == delphi_field_names().size()) return RadarLayout::kDelphi;
+  throw InputError(first.path.string(), lines.front().number, {},
+                   fmt::format("cannot tell the radar layout: the first line has {} fields; conti "
+                               "files start with the header '{}', delphi rows have 15 fields, and "
+                               "a generic folder holds {} (docs/formats.md); pass --layout",
+                               fields.size(), kContiHeader, kRadarCsvFileName));
+}
+
+void RadarReadOptions::Check() const {
+  // Enum values cast from a bad number (e.g. a binding's int) are named rather than misread.
+  const OptionsCheck check("RadarReadOptions");
+  check.that(!layout || *layout == RadarLayout::kConti || *layout == RadarLayout::kDelphi ||
+                 *layout == RadarLayout::kGeneric,
+             "layout", "must be a RadarLayout");
+  check.that(angle_unit == AngleUnit::kRadians || angle_unit == AngleUnit::kDegrees, "angle_unit",
+             "must be an AngleUnit");
+}
+
+RadarLog read_radar(const std::filesystem::path& input, const RadarReadOptions& options) {
+  options.Check();
+  const RadarLayout layout = options.layout ? *options.layout : detect_radar_layout(input);
+  try {
+    RadarLog log = read_radar_layout(input, layout, options.angle_unit);
+    log.layout = layout;
+    return log;
+  } catch (const InputError& error) {
+    if (!options.layout) throw;
+    throw with_layout_hint(error, input, layout);
+  }
 }
 
 void set_polar_from_cartesian(RadarDetection& d) {

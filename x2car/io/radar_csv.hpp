@@ -34,6 +34,7 @@
 #include <string_view>
 #include <vector>
 
+#include "x2car/io/ins_csv.hpp"
 #include "x2car/io/text_lines.hpp"
 
 namespace x2car::io {
@@ -55,14 +56,18 @@ struct RadarDetection {
   std::optional<double> rcs_dbsm;  // radar cross-section [dBsm], when the layout has it
 };
 
+enum class RadarLayout { kConti, kDelphi, kGeneric };
+
 struct RadarLog {
   // UTC of the log's time 0 [s since the Unix epoch]: the earliest row of a Conti or Delphi folder.
   // 0 for the generic CSV, whose times are already on the GNSS/INS log's clock.
   double start_unix_time = 0.0;
-  std::vector<RadarDetection> detections;  // in time order (rows of equal time keep file order)
+  std::vector<RadarDetection> detections;      // in time order (rows of equal time keep file order)
+  RadarLayout layout = RadarLayout::kGeneric;  // the layout read (read_radar sets it)
+  // What the CLI should print as warnings, each naming the file and line: header columns the
+  // reader ignored.
+  std::vector<std::string> notices;
 };
-
-enum class RadarLayout { kConti, kDelphi, kGeneric };
 
 std::string to_string(RadarLayout layout);  // "conti", "delphi", "generic"
 // Inverse of to_string; throws std::invalid_argument listing the valid names.
@@ -138,11 +143,32 @@ constexpr std::string_view kRadarCsvHeader = "time,track_id,range,azimuth,range_
 std::string format_radar_csv(std::span<const RadarDetection> detections);
 void write_radar_csv(const std::filesystem::path& path, std::span<const RadarDetection> detections);
 
-// Throws InputError naming file, line and field for: no header, a missing required column, a
-// duplicated column, x without y or vx without vy, a wrong field count, a non-numeric or
-// non-finite number, a negative or non-integer track id, only one of vx and vy, no rows.
-RadarLog read_radar_csv(const std::filesystem::path& path);
-RadarLog parse_radar_csv(std::string_view text, const std::string& source_name);
+// A header separated by semicolons is read so (detect_delimiter). Throws InputError naming file,
+// line and field for: no header, a missing required column, a duplicated column, x without y or vx
+// without vy, a wrong field count, a non-numeric or non-finite number, a negative range, a value
+// beyond the plausibility bounds (kRadarMaxRange, kRadarMaxSpeed), an
+// azimuth beyond +-pi rad (+-180 deg with `azimuth_unit` kDegrees; the message suggests
+// --angle-unit deg), mixed clocks (check_one_clock), a negative or non-integer track id, only one
+// of vx and vy, no rows. Other columns are named in a notice.
+RadarLog read_radar_csv(const std::filesystem::path& path,
+                        AngleUnit azimuth_unit = AngleUnit::kRadians);
+RadarLog parse_radar_csv(std::string_view text, const std::string& source_name,
+                         AngleUnit azimuth_unit = AngleUnit::kRadians);
+
+// Plausibility bounds of the radar readers: far beyond any automotive radar, close enough that a
+// corrupt number (1e308) is caught at its line instead of overflowing a computation later.
+constexpr double kRadarMaxRange = 1e4;  // [m] of a range or a position coordinate
+constexpr double kRadarMaxSpeed = 1e3;  // [m/s] of a range rate or a velocity component
+
+// Throws InputError at `where` when |value| > limit, showing `text` as written and the `unit`.
+void check_radar_bound(double value, double limit, std::string_view text, std::string_view unit,
+                       const FieldLocation& where);
+
+// Throws InputError unless `azimuth` [rad] lies within +-pi (a small rounding margin allowed): a
+// larger value is most likely in degrees. `unit` is what the layout read it as; the message shows
+// `text` as written and, for radians, suggests --angle-unit deg.
+void check_radar_azimuth(double azimuth, std::string_view text, AngleUnit unit,
+                         const FieldLocation& where);
 
 // ---- any layout
 // ----------------------------------------------------------------------------------
@@ -155,7 +181,27 @@ constexpr std::string_view kRadarCsvFileName = "detections.csv";
 void write_radar(const std::filesystem::path& folder, RadarLayout layout,
                  std::span<const RadarDetection> detections, double start_unix_time);
 // Reads what write_radar writes; for the generic layout `input` may also be the CSV file itself.
+// When the files do not read as `layout` but look like another layout (detect_radar_layout), the
+// error says so ("the files look like the delphi layout: pass --layout delphi or auto").
 RadarLog read_radar(const std::filesystem::path& input, RadarLayout layout);
+
+// The layout of a radar input, from what is there: a file, or a folder holding detections.csv, is
+// generic; a folder of scan files (list_radar_scan_files) is conti when the first file's first line
+// is a header starting time_ns,track_id,vx (radar_conti.hpp), delphi when it has 15 fields
+// (radar_delphi.hpp). Throws InputError naming the path (and the scan file's line) otherwise.
+RadarLayout detect_radar_layout(const std::filesystem::path& input);
+
+struct RadarReadOptions {
+  std::optional<RadarLayout> layout;  // unset (default): detect_radar_layout
+  // Unit of the angles the layout writes as numbers: the generic CSV's azimuth and Delphi's
+  // bearing (Conti has none: it derives the azimuth from px, py). Default radians
+  // (docs/formats.md); some exports write degrees.
+  AngleUnit angle_unit = AngleUnit::kRadians;
+
+  void Check() const;  // throws std::invalid_argument naming a field out of range
+};
+
+RadarLog read_radar(const std::filesystem::path& input, const RadarReadOptions& options);
 
 // Fills range, azimuth and range_rate from x, y, vx, vy (range_rate 0 at range 0).
 void set_polar_from_cartesian(RadarDetection& detection);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "x2car/core/error.hpp"
+#include "x2car/core/rotation.hpp"
 #include "x2car/core/test_matchers.hpp"
 #include "x2car/io/radar_conti.hpp"
 #include "x2car/io/radar_delphi.hpp"
@@ -336,6 +337,110 @@ TEST(GenericRadarCsv, RejectsBadInputNamingLineAndField) {
   expect_error("time,range,azimuth,range_rate,vx,vy\n0,1,2,3,4,\n", 2, "vy");
   expect_input_error([] { parse_radar_csv("time,range,azimuth,range_rate\n", "radar.csv"); },
                      "radar.csv", 0);
+}
+
+// ---- issue 11: layouts told apart, plausibility, notices ---------------------------------------
+
+TEST(RadarLayouts, AutoDetectsEachLayoutFromTheFiles) {
+  for (const RadarLayout layout :
+       {RadarLayout::kConti, RadarLayout::kDelphi, RadarLayout::kGeneric}) {
+    const auto folder = temp_folder("detect_" + to_string(layout));
+    write_radar(folder / "radar", layout, sample_detections(), kStart);
+    EXPECT_EQ(detect_radar_layout(folder / "radar"), layout) << to_string(layout);
+    const RadarLog log = read_radar(folder / "radar", RadarReadOptions{});
+    EXPECT_EQ(log.layout, layout);
+    EXPECT_EQ(log.detections.size(), sample_detections().size()) << to_string(layout);
+  }
+  const auto file = temp_folder("detect_file") / "any.csv";
+  write(file, "time,range,azimuth,range_rate\n0,1,0,0\n");
+  EXPECT_EQ(detect_radar_layout(file), RadarLayout::kGeneric);
+  const auto unknown = temp_folder("detect_unknown");
+  write(unknown / "2026-06-01-10-00-00-000.csv", "1,2,3\n");
+  const InputError error = expect_input_error(
+      [&] { detect_radar_layout(unknown); }, (unknown / "2026-06-01-10-00-00-000.csv").string(), 1);
+  EXPECT_THAT(error.what(), HasSubstr("--layout"));
+  expect_input_error([&] { detect_radar_layout(unknown / "missing"); },
+                     (unknown / "missing").string(), 0);
+}
+
+// Generic files read as conti used to say only "not a folder" / a header error, not that the
+// layout is wrong.
+TEST(RadarLayouts, AWrongLayoutErrorNamesTheLayoutTheFilesLookLike) {
+  const auto folder = temp_folder("wrong_layout");
+  write_radar(folder / "delphi", RadarLayout::kDelphi, sample_detections(), kStart);
+  write_radar(folder / "generic", RadarLayout::kGeneric, sample_detections(), kStart);
+  const InputError as_conti =
+      x2car::testing::input_error_of([&] { read_radar(folder / "delphi", RadarLayout::kConti); });
+  EXPECT_THAT(as_conti.what(), HasSubstr("look like the delphi layout: pass --layout delphi"));
+  EXPECT_THAT(as_conti.what(), HasSubstr("column 1 is '1780308000000000000'"));
+  const InputError as_delphi =
+      x2car::testing::input_error_of([&] { read_radar(folder / "generic", RadarLayout::kDelphi); });
+  EXPECT_THAT(as_delphi.what(), HasSubstr("pass --layout generic"));
+  const InputError as_generic =
+      x2car::testing::input_error_of([&] { read_radar(folder / "delphi", RadarLayout::kGeneric); });
+  EXPECT_THAT(as_generic.what(), HasSubstr("pass --layout delphi"));
+}
+
+// The Conti header error named the expected column as if it were the one found.
+TEST(ContiRadar, HeaderErrorNamesTheColumnFoundAndTheOneExpected) {
+  const auto folder = temp_folder("conti_header");
+  const auto file = folder / "2026-06-01-10-00-00-000.csv";
+  write(file, "time_ns,id,vx,vy,px,py\n");
+  const InputError error =
+      expect_input_error([&] { read_conti_radar(folder); }, file.string(), 1, "2");
+  EXPECT_THAT(error.what(), HasSubstr("column 2 is 'id', expected 'track_id'"));
+  write(file, "time_ns,track_id,vx\n");
+  const InputError short_header =
+      expect_input_error([&] { read_conti_radar(folder); }, file.string(), 1, "4");
+  EXPECT_THAT(short_header.what(), HasSubstr("column 4 is missing, expected 'vy'"));
+}
+
+TEST(RadarNotices, IgnoredColumnsAreNamed) {
+  const RadarLog generic =
+      parse_radar_csv("time,range,azimuth,range_rate,snr\n0,1,0,0,7\n", "radar.csv");
+  ASSERT_EQ(generic.notices.size(), 1u);
+  EXPECT_THAT(generic.notices[0], HasSubstr("radar.csv:1: ignored column(s) 'snr' (5)"));
+  const auto folder = temp_folder("conti_extra_column");
+  write(folder / "2026-06-01-10-00-00-000.csv",
+        "time_ns,track_id,vx,vy,px,py,rcs,meas_state,prob\n"
+        "1780308000000000000,3,1,2,3,4,5,1,0.9\n");
+  const RadarLog conti = read_conti_radar(folder);
+  ASSERT_EQ(conti.notices.size(), 1u);
+  EXPECT_THAT(conti.notices[0], HasSubstr("'prob' (9)"));
+}
+
+TEST(GenericRadarCsv, SemicolonSeparatedFilesAreRead) {
+  const RadarLog log = parse_radar_csv("time;range;azimuth;range_rate\n0;10;0.5;-3\n", "r.csv");
+  ASSERT_EQ(log.detections.size(), 1u);
+  EXPECT_EQ(log.detections[0].range, 10.0);
+  EXPECT_EQ(log.detections[0].azimuth, 0.5);
+}
+
+TEST(RadarPlausibility, NegativeRangesAndAzimuthsBeyondPiAreErrorsWithAHint) {
+  const std::string head = "time,range,azimuth,range_rate\n";
+  expect_input_error([&] { parse_radar_csv(head + "0,-1,0,0\n", "r.csv"); }, "r.csv", 2, "range");
+  const InputError degrees = expect_input_error(
+      [&] { parse_radar_csv(head + "0,10,0.5,0\n0,10,45,0\n", "r.csv"); }, "r.csv", 3, "azimuth");
+  EXPECT_THAT(degrees.what(), HasSubstr("--angle-unit deg"));
+  const RadarLog log = parse_radar_csv(head + "0,10,45,0\n", "r.csv", AngleUnit::kDegrees);
+  EXPECT_DOUBLE_EQ(log.detections[0].azimuth, rad_from_deg(45.0));
+  EXPECT_NEAR(log.detections[0].x, 10.0 * std::cos(rad_from_deg(45.0)), 1e-12);
+  expect_input_error([&] { parse_radar_csv(head + "0,10,270,0\n", "r.csv", AngleUnit::kDegrees); },
+                     "r.csv", 2, "azimuth");
+  expect_delphi_error("1780308000000000000,5,10,0,-5,0,3,30,10,3,0,0,0,0,-5\n", 1, "bearing");
+  const std::vector<StampedRadarDetection> rows = parse_delphi_scan(
+      "1780308000000000000,5,10,0,-5,0,3,30,10,3,0,0,0,0,-5\n", "d.csv", AngleUnit::kDegrees);
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_DOUBLE_EQ(rows[0].detection.azimuth, rad_from_deg(30.0));
+}
+
+TEST(GenericRadarCsv, MixedClocksAreRejected) {
+  const InputError error = expect_input_error(
+      [&] {
+        parse_radar_csv("time,range,azimuth,range_rate\n1.5,1,0,0\n1780308000.5,1,0,0\n", "r.csv");
+      },
+      "r.csv", 3, "time");
+  EXPECT_THAT(error.what(), HasSubstr("mixed clocks"));
 }
 
 TEST(RadarScanFolders, RejectMissingFoldersAndFileNamesThatAreNotTimes) {

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "x2car/core/error.hpp"
+#include "x2car/core/rotation.hpp"
 #include "x2car/io/text_lines.hpp"
 
 namespace x2car::io {
@@ -51,7 +52,8 @@ std::string format_row(const RadarDetection& d, std::int64_t unix_time_ns, std::
 }
 
 // nullopt for a "no track" row (status 0 or 6), after every field is checked.
-std::optional<StampedRadarDetection> parse_row(const TextLine& line, const std::string& source) {
+std::optional<StampedRadarDetection> parse_row(const TextLine& line, const std::string& source,
+                                               AngleUnit bearing_unit) {
   const std::vector<std::string_view> f = split_exact_fields(line, kFields.size(), source);
   const auto where = [&](std::size_t i) { return FieldLocation{source, line.number, kFields[i]}; };
   std::array<double, kFields.size()> v{};
@@ -69,6 +71,14 @@ std::optional<StampedRadarDetection> parse_row(const TextLine& line, const std::
     throw InputError(source, line.number, kFields[kRange],
                      fmt::format("range must not be negative, found {}", f[kRange]));
   }
+  for (const std::size_t i : {kX, kY, kRange}) {
+    check_radar_bound(v[i], kRadarMaxRange, f[i], "m", where(i));
+  }
+  for (const std::size_t i : {kVx, kVy, kRangeRate}) {
+    check_radar_bound(v[i], kRadarMaxSpeed, f[i], "m/s", where(i));
+  }
+  if (bearing_unit == AngleUnit::kDegrees) v[kBearing] = rad_from_deg(v[kBearing]);
+  check_radar_azimuth(v[kBearing], f[kBearing], bearing_unit, where(kBearing));
   if (status == kDelphiStatusNoTrack || status == kDelphiStatusInvalidCoasted) return std::nullopt;
   d.new_track = status == kDelphiStatusNew;
   d.azimuth = v[kBearing];
@@ -102,23 +112,24 @@ void write_delphi_radar(const std::filesystem::path& folder,
 }
 
 std::vector<StampedRadarDetection> parse_delphi_scan(std::string_view text,
-                                                     const std::string& source_name) {
+                                                     const std::string& source_name,
+                                                     AngleUnit bearing_unit) {
   std::vector<TextLine> lines = split_lines(text);
   if (!lines.empty() && is_header(lines.front())) lines.erase(lines.begin());
   std::vector<StampedRadarDetection> rows;
   for (const TextLine& line : lines) {
-    if (std::optional<StampedRadarDetection> row = parse_row(line, source_name)) {
+    if (std::optional<StampedRadarDetection> row = parse_row(line, source_name, bearing_unit)) {
       rows.push_back(std::move(*row));
     }
   }
   return rows;
 }
 
-RadarLog read_delphi_radar(const std::filesystem::path& folder) {
+RadarLog read_delphi_radar(const std::filesystem::path& folder, AngleUnit bearing_unit) {
   std::vector<StampedRadarDetection> rows;
   for (const RadarScanFile& file : list_radar_scan_files(folder)) {
     std::vector<StampedRadarDetection> scan =
-        parse_delphi_scan(read_text_file(file.path), file.path.string());
+        parse_delphi_scan(read_text_file(file.path), file.path.string(), bearing_unit);
     rows.insert(rows.end(), scan.begin(), scan.end());
   }
   return make_radar_log(std::move(rows));

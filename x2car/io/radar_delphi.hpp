@@ -52,10 +52,13 @@ void write_delphi_radar(const std::filesystem::path& folder,
 
 // Throws InputError naming file, line and field for: a field count other than 15, a non-integer
 // time, track id, status or scan index, a track id outside 0-63, a non-numeric or non-finite
-// number, a negative range. Rows with status 0 or 6 are skipped (after the checks).
+// number, a negative range, a bearing beyond +-pi rad (+-180 deg when `bearing_unit` is kDegrees).
+// Rows with status 0 or 6 are skipped (after the checks).
 std::vector<StampedRadarDetection> parse_delphi_scan(std::string_view text,
-                                                     const std::string& source_name);
+                                                     const std::string& source_name,
+                                                     AngleUnit bearing_unit = AngleUnit::kRadians);
 
-RadarLog read_delphi_radar(const std::filesystem::path& folder);
+RadarLog read_delphi_radar(const std::filesystem::path& folder,
+                           AngleUnit bearing_unit = AngleUnit::kRadians);
 
 }  // namespace x2car::io

@@ -74,8 +74,14 @@ Json std_to_json(const CalibrationResult& result) {
   std_deg["roll"] = degrees(result.roll_std, result, "roll_std");
   std_deg["pitch"] = degrees(result.pitch_std, result, "pitch_std");
   std_deg["yaw"] = degrees(result.yaw_std, result, "yaw_std");
-  if (result.z_std) std_deg["z_m"] = metres(result.z_std, result, "z_std");
   return std_deg;
+}
+
+// Standard errors in metres, beside std_deg: {"z"}.
+Json std_m_to_json(const CalibrationResult& result) {
+  Json std_m = Json::object();
+  std_m["z"] = metres(result.z_std, result, "z_std");
+  return std_m;
 }
 
 std::string dump(const Json& json) {
@@ -241,7 +247,14 @@ void read_std(const Json& object, const JsonContext& context, CalibrationResult&
   result.roll_std = radians(optional_number(*std_deg, "roll", inner));
   result.pitch_std = radians(optional_number(*std_deg, "pitch", inner));
   result.yaw_std = radians(optional_number(*std_deg, "yaw", inner));
-  result.z_std = optional_number(*std_deg, "z_m", inner);
+  result.z_std = optional_number(*std_deg, "z_m", inner);  // files written before std_m
+}
+
+void read_std_m(const Json& object, const JsonContext& context, CalibrationResult& result) {
+  const Json* std_m = object_member(object, "std_m", context);
+  if (std_m == nullptr) return;
+  const JsonContext inner = context.nested("std_m");
+  if (std::optional<double> z_std = optional_number(*std_m, "z", inner)) result.z_std = z_std;
 }
 
 CalibrationResult read_result(const Json& json, const JsonContext& context) {
@@ -258,6 +271,7 @@ CalibrationResult read_result(const Json& json, const JsonContext& context) {
   result.y = optional_number(json, "y_m", context);
   result.z = optional_number(json, "z_m", context);
   read_std(json, context, result);
+  read_std_m(json, context, result);
   result.support = counts_from_json(json, "support", context);
   result.rejections = counts_from_json(json, "rejections", context);
   result.diagnostics = diagnostics_from_json(json, context);
@@ -289,10 +303,11 @@ Json result_to_json(const CalibrationResult& result, const ResultJsonOptions& op
   if (result.y) json["y_m"] = metres(result.y, result, "y");
   json["z_m"] = metres(result.z, result, "z");
   json["std_deg"] = std_to_json(result);
+  json["std_m"] = std_m_to_json(result);
   json["support"] = counts_to_json(result.support);
   json["rejections"] = counts_to_json(result.rejections);
   json["diagnostics"] = diagnostics_to_json(result);
-  json["seconds"] = checked(result.seconds, result, "seconds");
+  if (options.include_timing) json["seconds"] = checked(result.seconds, result, "seconds");
   if (options.include_series) json["series"] = series_to_json(result.series);
   return json;
 }

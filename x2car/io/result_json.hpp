@@ -1,11 +1,12 @@
 // CalibrationResult <-> JSON in the shape of DESIGN §6:
 //   {"sensor", "status": "ok" | "insufficient_data", "reason", "method",
 //    "roll_deg", "pitch_deg", "yaw_deg", ["x_m", "y_m",] "z_m",
-//    "std_deg": {"roll", "pitch", "yaw"[, "z_m"]}, "support": {...}, "rejections": {...},
+//    "std_deg": {"roll", "pitch", "yaw"}, "std_m": {"z"}, "support": {...}, "rejections": {...},
 //    "diagnostics": {name_with_unit: number}, "seconds", "series": [{"name", "unit", "time": [...],
 //    "value": [...]}]}
 // Radians inside the library, degrees in the JSON. An angle the method cannot observe is null,
-// never 0; "x_m"/"y_m" appear only when known, "z_m" is always present (null when unknown).
+// never 0; "x_m"/"y_m" appear only when known, "z_m" and "std_m.z" are always present (null when
+// unknown). The reader also accepts the older "std_deg.z_m" for z's standard error.
 // Series values that are NaN are written as null and read back as NaN.
 #pragma once
 
@@ -23,6 +24,9 @@ using Json = nlohmann::ordered_json;
 
 struct ResultJsonOptions {
   bool include_series = true;  // the per-sample series make a file large; reports want them
+  // "seconds" (the calibration's wall time) differs from run to run; false leaves it out so that
+  // identical runs write identical bytes (reproducible output, regression diffs).
+  bool include_timing = true;
 };
 
 // Throws std::invalid_argument when an estimated value is not finite: writing it as null would

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "x2car/core/error.hpp"
 #include "x2car/core/rotation.hpp"
@@ -117,7 +118,8 @@ TEST(ResultJson, ShapeFollowsTheDesign) {
   EXPECT_NEAR(json.at("pitch_deg").get<double>(), 1.3, kExact);
   EXPECT_NEAR(json.at("z_m").get<double>(), 1.83, kExact);
   EXPECT_NEAR(json.at("std_deg").at("yaw").get<double>(), 0.1, kExact);
-  EXPECT_NEAR(json.at("std_deg").at("z_m").get<double>(), 0.004, kExact);
+  EXPECT_FALSE(json.at("std_deg").contains("z_m"));  // a length is not in degrees
+  EXPECT_NEAR(json.at("std_m").at("z").get<double>(), 0.004, kExact);
   EXPECT_EQ(json.at("support").at("segments"), 7);
   EXPECT_EQ(json.at("rejections").at("turning"), 310);
   EXPECT_FALSE(json.contains("x_m"));  // only when known
@@ -132,12 +134,32 @@ TEST(ResultJson, UnobservedAnglesAreNullNeverZero) {
   EXPECT_THAT(text, HasSubstr("\"z_m\": null"));
   const Json json = Json::parse(text);
   EXPECT_TRUE(json.at("std_deg").at("roll").is_null());
+  EXPECT_TRUE(json.at("std_m").at("z").is_null());
   EXPECT_NEAR(json.at("x_m").get<double>(), 0.5, kExact);
   const CalibrationResult read = parse_result_json(text, "r");
   EXPECT_FALSE(read.roll.has_value());
   EXPECT_FALSE(read.pitch.has_value());
   EXPECT_FALSE(read.z.has_value());
   EXPECT_FALSE(read.roll_std.has_value());
+}
+
+TEST(ResultJson, OlderStdDegZmStillReads) {
+  const CalibrationResult read = parse_result_json(
+      R"({"sensor": "lidar", "status": "ok", "std_deg": {"z_m": 0.004}})", "old.json");
+  ASSERT_TRUE(read.z_std.has_value());
+  EXPECT_NEAR(*read.z_std, 0.004, kExact);
+}
+
+TEST(ResultJson, TimingCanBeLeftOutForIdenticalBytes) {
+  CalibrationResult slow = lidar_result();
+  CalibrationResult fast = lidar_result();
+  slow.seconds = 12.5;
+  fast.seconds = 0.5;
+  EXPECT_TRUE(result_to_json(slow).contains("seconds"));  // DESIGN §6 keeps it by default
+  ResultJsonOptions reproducible;
+  reproducible.include_timing = false;
+  EXPECT_FALSE(result_to_json(slow, reproducible).contains("seconds"));
+  EXPECT_EQ(format_result_json(slow, reproducible), format_result_json(fast, reproducible));
 }
 
 TEST(ResultJson, InsufficientDataKeepsItsReason) {

@@ -123,6 +123,36 @@ std::vector<std::string_view> split_fields(std::string_view line) {
   return fields;
 }
 
+Delimiter detect_delimiter(std::string_view header) {
+  if (header.find(',') != header.npos) return Delimiter::kAuto;
+  if (header.find(';') != header.npos) return Delimiter::kSemicolon;
+  return Delimiter::kAuto;
+}
+
+std::vector<std::string_view> split_fields(std::string_view line, Delimiter delimiter) {
+  if (delimiter == Delimiter::kAuto) return split_fields(line);
+  const char separator = ';';
+  std::vector<std::string_view> fields;
+  std::size_t begin = 0;
+  for (std::size_t end = line.find(separator); end != line.npos;
+       end = line.find(separator, begin)) {
+    fields.push_back(trim(line.substr(begin, end - begin)));
+    begin = end + 1;
+  }
+  fields.push_back(trim(line.substr(begin)));
+  return fields;
+}
+
+std::string_view delimiter_name(Delimiter delimiter) {
+  switch (delimiter) {
+    case Delimiter::kSemicolon:
+      return "semicolon-separated";
+    case Delimiter::kAuto:
+      break;
+  }
+  return "comma-separated";
+}
+
 std::vector<Token> split_number_tokens(std::string_view text) {
   std::vector<Token> tokens;
   std::size_t line = 1;
@@ -155,7 +185,10 @@ double parse_double(std::string_view text, const FieldLocation& where, NonFinite
     throw field_error(where, fmt::format("not a number: {}", quoted(text)));
   }
   if (non_finite == NonFinite::kReject && !std::isfinite(value)) {
-    throw field_error(where, fmt::format("{} is not a finite number", quoted(text)));
+    // Said without echoing "nan": a NaN in a message reads as a computation gone wrong.
+    throw field_error(where, std::isnan(value)
+                                 ? std::string("not-a-number value; expected a finite number")
+                                 : fmt::format("{} is not a finite number", quoted(text)));
   }
   return value;
 }
@@ -184,12 +217,12 @@ int parse_whole_number(std::string_view text, const FieldLocation& where) {
 
 std::vector<std::string_view> split_exact_fields(const TextLine& line, std::size_t count,
                                                  const std::string& source,
-                                                 std::string_view count_note) {
-  std::vector<std::string_view> fields = split_fields(line.text);
+                                                 std::string_view count_note, Delimiter delimiter) {
+  std::vector<std::string_view> fields = split_fields(line.text, delimiter);
   if (fields.size() != count) {
     throw InputError(source, line.number, {},
-                     fmt::format("expected {} comma-separated fields{}, found {}", count,
-                                 count_note, fields.size()));
+                     fmt::format("expected {} {} fields{}, found {}", count,
+                                 delimiter_name(delimiter), count_note, fields.size()));
   }
   return fields;
 }

@@ -48,6 +48,17 @@ std::string_view trim(std::string_view text);
 // whitespace. Fields are trimmed.
 std::vector<std::string_view> split_fields(std::string_view line);
 
+// Column separators: kAuto is split_fields' rule (commas, else whitespace, which covers tabs); a
+// header separated by semicolons (a spreadsheet in a locale with decimal commas) sets the rule for
+// its rows.
+enum class Delimiter { kAuto, kSemicolon };
+// kSemicolon when the header has a ';' and no ',', else kAuto.
+Delimiter detect_delimiter(std::string_view header);
+// Splits a line at `delimiter` (kAuto: split_fields). Fields are trimmed; empty fields are kept.
+std::vector<std::string_view> split_fields(std::string_view line, Delimiter delimiter);
+// "comma-separated", "semicolon-separated".
+std::string_view delimiter_name(Delimiter delimiter);
+
 // Splits a text into numeric-looking tokens at whitespace, commas, semicolons and brackets
 // ([](){}), for matrices pasted from numpy, Eigen or MATLAB. Each token keeps its line number.
 struct Token {
@@ -90,7 +101,8 @@ int parse_whole_number(std::string_view text, const FieldLocation& where);
 // says where the count comes from (e.g. " (as many as the header names)"), or is empty.
 std::vector<std::string_view> split_exact_fields(const TextLine& line, std::size_t count,
                                                  const std::string& source,
-                                                 std::string_view count_note = {});
+                                                 std::string_view count_note = {},
+                                                 Delimiter delimiter = Delimiter::kAuto);
 
 // Parses the fields of one line as doubles after checking there are exactly `names.size()` of
 // them; each error names the field by its name. `file` and `line` locate the line.

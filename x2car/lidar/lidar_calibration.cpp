@@ -13,8 +13,10 @@
 #include <stdexcept>
 #include <thread>
 
+#include "x2car/core/error.hpp"
 #include "x2car/core/options_check.hpp"
 #include "x2car/core/robust_stats.hpp"
+#include "x2car/core/track_alignment_report.hpp"
 
 namespace x2car::lidar {
 namespace {
@@ -25,22 +27,73 @@ constexpr const char* kSensor = "lidar";
 struct SweepInFlight {
   std::size_t index = 0;
   io::PointCloud cloud;
+  std::optional<std::string> read_error;  // set when skip_bad_sweeps caught an InputError
 };
 
-// What one pass over the sweeps produced.
+// What one pass over the sweeps produced, for the sweeps that could be read.
 struct SweepPass {
-  std::vector<OdometryStep> steps;               // one per sweep
-  std::vector<std::optional<GroundFit>> ground;  // one per sweep; set on every k-th
+  std::vector<OdometryStep> steps;               // one per readable sweep
+  std::vector<std::optional<GroundFit>> ground;  // one per readable sweep; set on every k-th
+  std::int64_t unreadable = 0;                   // sweeps skipped (skip_bad_sweeps)
+  std::optional<std::string> first_read_error;   // the earliest skipped sweep's message
 };
+
+// Leaves out the sweeps that could not be read: the odometry went on from the next one.
+void drop_unreadable(const std::vector<std::uint8_t>& unreadable, SweepPass& pass) {
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < unreadable.size(); ++i) {
+    if (unreadable[i]) continue;
+    pass.steps[kept] = std::move(pass.steps[i]);
+    pass.ground[kept] = std::move(pass.ground[i]);
+    ++kept;
+  }
+  pass.steps.resize(kept);
+  pass.ground.resize(kept);
+}
+
+// Reads sweep `index` and fits its ground when it is a ground frame; with skip_bad_sweeps an
+// InputError marks the sweep unreadable instead of ending the run.
+void read_and_fit(const SweepSource& sweeps, const LidarCalibrationOptions& options,
+                  SweepInFlight& sweep, std::optional<GroundFit>& ground, GroundScratch& scratch) {
+  try {
+    sweep.cloud = sweeps.read(sweep.index);
+  } catch (const InputError& error) {
+    if (!options.skip_bad_sweeps) throw;
+    sweep.read_error = error.what();
+    return;
+  }
+  if (sweep.index % static_cast<std::size_t>(options.ground_every) == 0) {
+    // Seeded per sweep so the result does not depend on the threads' order.
+    ground = fit_ground(sweep.cloud, options.ground, options.seed + sweep.index, scratch);
+  }
+}
+
+// The odometry stamps a pose at its sweep's time plus the deskew time (the middle of the points'
+// own times); per-point times from another origin can put a pose at or before the previous one,
+// which the odometry refuses. That is the input's fault: say which sweep.
+OdometryStep register_in_order(LidarOdometry& odometry, const SweepInFlight& sweep,
+                               const SweepSource& sweeps) {
+  try {
+    return odometry.register_sweep(sweep.cloud, sweeps.times[sweep.index]);
+  } catch (const std::invalid_argument& error) {
+    throw InputError(
+        fmt::format("sweep {} (time {:.6f} s)", sweep.index, sweeps.times[sweep.index]), 0, "t",
+        fmt::format("its points' times put its pose at or before the previous "
+                    "sweep's; are the per-point times relative to the sweep's start? "
+                    "({})",
+                    error.what()));
+  }
+}
 
 SweepPass run_sweep_pass(const SweepSource& sweeps, const LidarCalibrationOptions& options) {
   const std::size_t count = sweeps.times.size();
   SweepPass pass;
   pass.steps.resize(count);
   pass.ground.resize(count);
+  std::vector<std::uint8_t> unreadable(count, 0);
   LidarOdometry odometry(options.odometry);
-  const auto every = static_cast<std::size_t>(options.ground_every);
   std::size_t next = 0;
+  std::size_t done = 0;
   tbb::enumerable_thread_specific<GroundScratch> scratch;
   // Enough sweeps in flight to keep every core reading and fitting while the odometry runs, few
   // enough that memory stays bounded.
@@ -61,19 +114,20 @@ SweepPass run_sweep_pass(const SweepSource& sweeps, const LidarCalibrationOption
           tbb::make_filter<std::shared_ptr<SweepInFlight>, std::shared_ptr<SweepInFlight>>(
               tbb::filter_mode::parallel,
               [&](std::shared_ptr<SweepInFlight> sweep) {
-                sweep->cloud = sweeps.read(sweep->index);
-                if (sweep->index % every == 0) {
-                  // Seeded per sweep so the result does not depend on the threads' order.
-                  pass.ground[sweep->index] = fit_ground(
-                      sweep->cloud, options.ground, options.seed + sweep->index, scratch.local());
-                }
+                read_and_fit(sweeps, options, *sweep, pass.ground[sweep->index], scratch.local());
                 return sweep;
               }) &
           tbb::make_filter<std::shared_ptr<SweepInFlight>, void>(
               tbb::filter_mode::serial_in_order, [&](const std::shared_ptr<SweepInFlight>& sweep) {
-                pass.steps[sweep->index] =
-                    odometry.register_sweep(sweep->cloud, sweeps.times[sweep->index]);
+                if (sweep->read_error) {
+                  unreadable[sweep->index] = 1;
+                  if (pass.unreadable++ == 0) pass.first_read_error = sweep->read_error;
+                } else {
+                  pass.steps[sweep->index] = register_in_order(odometry, *sweep, sweeps);
+                }
+                if (options.progress) options.progress(++done, count);
               }));
+  drop_unreadable(unreadable, pass);
   return pass;
 }
 
@@ -229,55 +283,42 @@ void append_reason(CalibrationResult& result, const std::string& text) {
   result.reason += result.reason.empty() ? text : "; " + text;
 }
 
-void add_ground(const GroundFrames& frames, const LidarCalibrationOptions& options,
-                CalibrationResult& result) {
-  const FrameEstimate roll = estimate_from_frames(frames.time, frames.roll, options);
-  const FrameEstimate pitch = estimate_from_frames(frames.time, frames.pitch, options);
-  const FrameEstimate height = estimate_from_frames(frames.time, frames.height, options);
-  result.roll = roll.value;
-  result.roll_std = roll.standard_error;
-  result.pitch = pitch.value;
-  result.pitch_std = pitch.standard_error;
-  result.z = height.value;
-  result.z_std = height.standard_error;
+// Roll, pitch and height from the ground frames (DESIGN §2): the typed estimate of the ground.
+struct GroundEstimate {
+  FrameEstimate roll;    // [rad]
+  FrameEstimate pitch;   // [rad]
+  FrameEstimate height;  // [m]
+};
+
+GroundEstimate estimate_ground(const GroundFrames& frames, const LidarCalibrationOptions& options) {
+  return {estimate_from_frames(frames.time, frames.roll, options),
+          estimate_from_frames(frames.time, frames.pitch, options),
+          estimate_from_frames(frames.time, frames.height, options)};
+}
+
+void write_ground_counts(const GroundFrames& frames, CalibrationResult& result) {
+  result.support["ground_fits"] = frames.fitted;
+  result.rejections["ground_failed"] = frames.failed;
+  result.rejections["ground_turning"] = frames.turning;
+  result.rejections["ground_unregistered"] = frames.unregistered;
+}
+
+void write_ground(const GroundEstimate& ground, const GroundFrames& frames,
+                  CalibrationResult& result) {
+  result.roll = ground.roll.value;
+  result.roll_std = ground.roll.standard_error;
+  result.pitch = ground.pitch.value;
+  result.pitch_std = ground.pitch.standard_error;
+  result.z = ground.height.value;
+  result.z_std = ground.height.standard_error;
   result.support["ground_frames"] = static_cast<std::int64_t>(frames.time.size());
-  result.rejections["ground_outlier"] = roll.outliers + pitch.outliers + height.outliers;
+  // Frames left out of each quantity's standard error by median/MAD: three separate counts.
+  result.rejections["ground_outlier_roll"] = ground.roll.outliers;
+  result.rejections["ground_outlier_pitch"] = ground.pitch.outliers;
+  result.rejections["ground_outlier_height"] = ground.height.outliers;
 }
 
-void add_yaw(const TrackAlignment& alignment, const LidarCalibrationOptions& options,
-             CalibrationResult& result) {
-  const SegmentationRejections& r = alignment.segmentation.rejections;
-  result.rejections["slow"] = r.slow;
-  result.rejections["curved"] = r.curved;
-  result.rejections["reversing"] = r.excluded - alignment.without_direction;
-  result.rejections["short_run"] = r.short_run;
-  result.diagnostics["valid_duration_s"] = alignment.valid_duration_s;
-  if (alignment.insufficient_reason) {
-    result.status = CalibrationStatus::kInsufficientData;
-    append_reason(result, "yaw: " + *alignment.insufficient_reason);
-    return;
-  }
-  const YawChoice choice = choose_yaw(alignment, options.yaw_method, options.disagreement, result);
-  if (choice.disagreement) append_reason(result, *choice.disagreement);
-  result.support["segments"] = static_cast<std::int64_t>(alignment.yaw->segments.size());
-  result.support["valid_sweeps"] = static_cast<std::int64_t>(alignment.segmentation.sample_count());
-  // The levelled frame is pitched by the ground's error: the velocity's pitch in it is minus that
-  // error, so adding it gives the motion's own estimate of the pitch.
-  const SegmentAverage& residual_pitch = *alignment.velocity_pitch_estimate;
-  const double motion_pitch = *result.pitch + residual_pitch.value;
-  result.diagnostics["motion_pitch_deg"] = deg_from_rad(motion_pitch);
-  result.diagnostics["motion_pitch_std_deg"] = deg_from_rad(residual_pitch.standard_error);
-  if (options.disagreement(motion_pitch, residual_pitch.standard_error, *result.pitch,
-                           *result.pitch_std)) {
-    append_reason(result,
-                  fmt::format("the pitch from the motion ({:.3f} deg) differs from the ground's "
-                              "({:.3f} deg): check the odometry and the ground fits",
-                              deg_from_rad(motion_pitch), deg_from_rad(*result.pitch)));
-  }
-}
-
-void add_series(const GroundFrames& frames, const TrackAlignment* alignment,
-                CalibrationResult& result) {
+void write_ground_series(const GroundFrames& frames, CalibrationResult& result) {
   result.series.push_back({"ground_roll", "rad", frames.time, frames.roll});
   result.series.push_back({"ground_pitch", "rad", frames.time, frames.pitch});
   result.series.push_back({"ground_height", "m", frames.time, frames.height});
@@ -292,12 +333,41 @@ void add_series(const GroundFrames& frames, const TrackAlignment* alignment,
   result.series.push_back(std::move(nx));
   result.series.push_back(std::move(ny));
   result.series.push_back(std::move(nz));
-  if (alignment == nullptr) return;
-  const std::vector<double>& time = alignment->track.time;
-  result.series.push_back({"track_heading", "rad", time, alignment->track.heading_enu});
-  result.series.push_back({"lidar_heading", "rad", time, alignment->sensor_heading});
-  result.series.push_back({"heading_offset", "rad", time, alignment->heading_offset});
-  result.series.push_back({"speed", "m/s", time, alignment->track.speed});
+}
+
+// The motion's own pitch (the levelled frame is pitched by the ground's error: the velocity's
+// pitch in it is minus that error, so adding it back gives the motion's estimate), checked against
+// the ground's.
+void write_motion_pitch(const TrackAlignment& alignment, const LidarCalibrationOptions& options,
+                        CalibrationResult& result) {
+  const SegmentAverage& residual_pitch = *alignment.velocity_pitch_estimate;
+  const double motion_pitch = *result.pitch + residual_pitch.value;
+  result.diagnostics["motion_pitch_deg"] = deg_from_rad(motion_pitch);
+  result.diagnostics["motion_pitch_std_deg"] = deg_from_rad(residual_pitch.standard_error);
+  if (options.disagreement(motion_pitch, residual_pitch.standard_error, *result.pitch,
+                           *result.pitch_std)) {
+    append_reason(result,
+                  fmt::format("the pitch from the motion ({:.3f} deg) differs from the ground's "
+                              "({:.3f} deg): check the odometry and the ground fits",
+                              deg_from_rad(motion_pitch), deg_from_rad(*result.pitch)));
+  }
+}
+
+// The yaw from the odometry's track: status and reason follow the alignment's outcome.
+void write_yaw(const TrackAlignment& alignment, const LidarCalibrationOptions& options,
+               CalibrationResult& result) {
+  std::optional<YawChoice> choice;
+  if (!alignment.insufficient_reason) {
+    choice = choose_yaw(alignment, options.yaw_method, options.disagreement);
+  }
+  write_track_alignment(alignment, choice, options.keep_series, result);
+  if (!choice) {
+    result.status = CalibrationStatus::kInsufficientData;
+    append_reason(result, "yaw: " + *alignment.insufficient_reason);
+    return;
+  }
+  if (choice->disagreement) append_reason(result, *choice->disagreement);
+  write_motion_pitch(alignment, options, result);
 }
 
 double path_length(const std::vector<OdometryStep>& steps) {
@@ -308,6 +378,28 @@ double path_length(const std::vector<OdometryStep>& steps) {
             .norm();
   }
   return length;
+}
+
+// Registration failures by status and points skipped; returns the number of failed sweeps.
+std::int64_t write_odometry_counts(const SweepPass& pass, CalibrationResult& result) {
+  std::int64_t failed = 0;
+  std::int64_t skipped_points = 0;
+  for (const OdometryStep& step : pass.steps) {
+    if (!registered(step)) {
+      ++failed;
+      ++result.rejections["registration_" + to_string(step.status)];
+    }
+    skipped_points += static_cast<std::int64_t>(step.invalid_points);
+  }
+  result.rejections["registration_failed"] = failed;
+  result.rejections["non_finite_points"] = skipped_points;
+  result.rejections["unreadable_sweep"] = pass.unreadable;
+  result.diagnostics["odometry_path_length_m"] = path_length(pass.steps);
+  if (pass.first_read_error) {
+    append_reason(result, fmt::format("{} unreadable sweeps skipped, the first: {}",
+                                      pass.unreadable, *pass.first_read_error));
+  }
+  return failed;
 }
 
 }  // namespace
@@ -341,54 +433,51 @@ CalibrationResult calibrate_lidar(const SweepSource& sweeps,
                                   const LidarCalibrationOptions& options) {
   options.Check();
   const auto started = std::chrono::steady_clock::now();
-  const std::size_t count = sweeps.times.size();
-  if (count < options.min_sweeps) {
-    return insufficient_data(
-        kSensor, fmt::format("only {} sweeps; need at least {} and {:g} s of "
-                             "straight driving for the yaw",
-                             count, options.min_sweeps, options.alignment.min_valid_duration_s));
+  const auto finish = [&](CalibrationResult& result) {
+    result.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    return result;
+  };
+  if (sweeps.times.size() < options.min_sweeps) {
+    CalibrationResult result =
+        insufficient_data(kSensor, fmt::format("only {} sweeps; need at least {} and {:g} s of "
+                                               "straight driving for the yaw",
+                                               sweeps.times.size(), options.min_sweeps,
+                                               options.alignment.min_valid_duration_s));
+    return finish(result);
   }
   const SweepPass pass = run_sweep_pass(sweeps, options);
+  const std::size_t count = pass.steps.size();
 
   CalibrationResult result;
   result.sensor = kSensor;
   result.status = CalibrationStatus::kOk;
   result.support["sweeps"] = static_cast<std::int64_t>(count);
-  std::int64_t failed_registrations = 0;
-  std::int64_t skipped_points = 0;
-  for (const OdometryStep& step : pass.steps) {
-    if (!registered(step)) {
-      ++failed_registrations;
-      ++result.rejections["registration_" + to_string(step.status)];
-    }
-    skipped_points += static_cast<std::int64_t>(step.invalid_points);
+  const std::int64_t failed_registrations = write_odometry_counts(pass, result);
+  if (count < options.min_sweeps) {
+    result.status = CalibrationStatus::kInsufficientData;
+    append_reason(result, fmt::format("only {} readable sweeps; need at least {}", count,
+                                      options.min_sweeps));
+    return finish(result);
   }
-  result.rejections["registration_failed"] = failed_registrations;
-  result.rejections["non_finite_points"] = skipped_points;
-  result.diagnostics["odometry_path_length_m"] = path_length(pass.steps);
 
   const GroundFrames frames = gate_ground_frames(pass, turn_rates_from(pass.steps), options);
-  result.rejections["ground_failed"] = frames.failed;
-  result.rejections["ground_turning"] = frames.turning;
-  result.rejections["ground_unregistered"] = frames.unregistered;
-  result.support["ground_fits"] = frames.fitted;
+  write_ground_counts(frames, result);
+  if (options.keep_series) write_ground_series(frames, result);
   if (frames.time.size() < options.min_ground_frames) {
     result.status = CalibrationStatus::kInsufficientData;
-    result.reason = fmt::format(
-        "only {} usable ground frames (of {} fitted; {} failed, {} while turning, {} around failed "
-        "registrations); need at least {}",
-        frames.time.size(), frames.fitted, frames.failed, frames.turning, frames.unregistered,
-        options.min_ground_frames);
-    if (options.keep_series) add_series(frames, nullptr, result);
-    result.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    return result;
+    append_reason(result,
+                  fmt::format("only {} usable ground frames (of {} fitted; {} failed, {} while "
+                              "turning, {} around failed registrations); need at least {}",
+                              frames.time.size(), frames.fitted, frames.failed, frames.turning,
+                              frames.unregistered, options.min_ground_frames));
+    return finish(result);
   }
-  add_ground(frames, options, result);
+  // Roll, pitch and height stand on their own: they are reported even when the yaw lacks data.
+  write_ground(estimate_ground(frames, options), frames, result);
 
   const double failed_share =
       static_cast<double>(failed_registrations) / static_cast<double>(count);
-  std::optional<TrackAlignment> alignment;
   if (failed_share > options.max_failed_registration_share) {
     result.status = CalibrationStatus::kInsufficientData;
     append_reason(
@@ -396,15 +485,12 @@ CalibrationResult calibrate_lidar(const SweepSource& sweeps,
         fmt::format("yaw: the odometry failed on {} of {} sweeps (more than {:g} %), so "
                     "its track cannot be trusted",
                     failed_registrations, count, 100.0 * options.max_failed_registration_share));
-  } else {
-    alignment =
-        align_track(levelled_track(pass.steps, *result.roll, *result.pitch), options.alignment);
-    add_yaw(*alignment, options, result);
+    return finish(result);
   }
-  if (options.keep_series) add_series(frames, alignment ? &*alignment : nullptr, result);
-  result.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  return result;
+  const TrackAlignment alignment =
+      align_track(levelled_track(pass.steps, *result.roll, *result.pitch), options.alignment);
+  write_yaw(alignment, options, result);
+  return finish(result);
 }
 
 }  // namespace x2car::lidar

@@ -8,9 +8,9 @@
 //     medians, so that the body's lean when braking and speeding up averages out);
 //   - the odometry poses are levelled with that roll and pitch and handed to the track alignment
 //     shared with the GNSS/INS calibrator (core/track_alignment.hpp): the heading of the
-//     spline-smoothed track against the levelled LiDAR's heading gives the yaw (the paper's), and
-//     the direction of the velocity in the levelled frame gives an independent yaw and pitch
-//     (non-holonomic cross-check). Disagreements are reported.
+//     spline-smoothed track against the levelled LiDAR's heading gives the yaw (the paper's
+//     eq:lidar_angle), and the direction of the velocity in the levelled frame gives an independent
+//     yaw and pitch (non-holonomic cross-check). Disagreements are reported.
 #pragma once
 
 #include <cstddef>
@@ -57,6 +57,13 @@ struct LidarCalibrationOptions {
   DisagreementTest disagreement;
   bool keep_series = true;  // per-frame ground normals, heights and heading offsets
   std::uint64_t seed = 1;   // of the ground's RANSAC
+  // A sweep whose `read` throws InputError (a truncated or corrupt file) is skipped and counted
+  // (rejections["unreadable_sweep"], the first message in `reason`); the odometry continues from
+  // the next sweep. Off: the InputError ends the run.
+  bool skip_bad_sweeps = false;
+  // Called after each sweep has passed the odometry (in order, from one thread at a time) with the
+  // sweeps done and the total, e.g. for a progress bar; empty: not called. Must not throw.
+  std::function<void(std::size_t done, std::size_t total)> progress;
 
   // Throws std::invalid_argument naming the offending field.
   void Check() const;
@@ -72,7 +79,9 @@ struct SweepSource {
 SweepSource sweep_source_from(const SweepFolder& folder);
 
 // Returns an ok result, or insufficient_data with a reason that says what is missing; never NaN
-// angles. InputError from `read` passes through; std::invalid_argument on invalid options.
+// angles. Roll, pitch and z are reported whenever the ground allows, also when the yaw lacks data
+// (status insufficient_data, the reason saying why). InputError from `read` passes through unless
+// skip_bad_sweeps; std::invalid_argument on invalid options.
 CalibrationResult calibrate_lidar(const SweepSource& sweeps,
                                   const LidarCalibrationOptions& options = {});
 

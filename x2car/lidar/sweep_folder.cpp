@@ -95,9 +95,10 @@ void sort_and_check(std::vector<SweepFile>& sweeps) {
   std::ranges::stable_sort(sweeps, {}, &SweepFile::time);
   for (std::size_t i = 1; i < sweeps.size(); ++i) {
     if (sweeps[i].time == sweeps[i - 1].time) {
-      throw InputError(sweeps[i].path.string(),
-                       fmt::format("has the same time ({:.6f} s) as {}", sweeps[i].time,
-                                   sweeps[i - 1].path.filename().string()));
+      throw InputError(
+          sweeps[i].path.string(),
+          fmt::format("has the same time ({} s) as {}", io::format_number(sweeps[i].time),
+                      sweeps[i - 1].path.filename().string()));
     }
   }
 }

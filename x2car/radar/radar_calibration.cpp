@@ -23,6 +23,7 @@ namespace {
 struct GatedSamples {
   std::vector<RadarSample> samples;
   std::int64_t outside_ins_span = 0;
+  std::int64_t in_ins_gap = 0;
   std::int64_t slow = 0;
   std::int64_t turning = 0;
   std::int64_t too_close = 0;
@@ -34,6 +35,7 @@ struct GatedSamples {
 GatedSamples gate_samples(const RadarEgoMotion& motion, const RadarCalibrationOptions& options) {
   GatedSamples gated;
   gated.outside_ins_span = motion.counts.outside_ins_span;
+  gated.in_ins_gap = motion.counts.in_ins_gap;
   const double max_yaw_rate =
       options.lever_arm_in_vehicle ? options.max_yaw_rate_with_lever_arm : options.max_yaw_rate;
   for (const RadarSample& sample : motion.samples) {
@@ -51,107 +53,13 @@ GatedSamples gate_samples(const RadarEgoMotion& motion, const RadarCalibrationOp
   return gated;
 }
 
-struct WindowEstimates {
-  std::vector<double> times;    // window centres [s]
-  std::vector<double> yaws;     // [rad]
-  std::vector<double> weights;  // 1 / formal variance [1/rad^2]
-};
-
-// Per-window fits on the static detections, starting from the global psi.
-WindowEstimates window_estimates(std::span<const RadarSample> samples,
-                                 std::span<const std::uint8_t> static_mask, double yaw,
-                                 const RadarVelocityMethodOptions& options) {
-  std::map<std::int64_t, std::vector<RadarSample>> windows;
-  const double t0 = samples.front().time;
-  for (std::size_t i = 0; i < samples.size(); ++i) {
-    if (!static_mask[i]) continue;
-    windows[static_cast<std::int64_t>(std::floor((samples[i].time - t0) / options.window_s))]
-        .push_back(samples[i]);
-  }
-  WindowEstimates estimates;
-  for (const auto& [index, window] : windows) {
-    if (static_cast<int>(window.size()) < options.min_window_points) continue;
-    const VelocityFit fit = fit_yaw_on(window, yaw, options);
-    if (!fit.ok || !(fit.formal_std > 0.0)) continue;
-    estimates.times.push_back(t0 + (static_cast<double>(index) + 0.5) * options.window_s);
-    estimates.yaws.push_back(yaw + angle_difference(fit.yaw, yaw));
-    estimates.weights.push_back(1.0 / (fit.formal_std * fit.formal_std));
-  }
-  return estimates;
-}
-
-CalibrationResult insufficient_velocity(std::string reason) {
-  CalibrationResult result = insufficient_data("radar", std::move(reason));
-  result.method = "velocity";
-  return result;
-}
-
 // The gate's counts go into every result, whichever method made it.
 void add_gate_rejections(CalibrationResult& result, const GatedSamples& gated) {
   result.rejections["outside_ins_span"] = gated.outside_ins_span;
+  result.rejections["in_ins_gap"] = gated.in_ins_gap;
   result.rejections["slow"] = gated.slow;
   result.rejections["turning"] = gated.turning;
   result.rejections["too_close"] = gated.too_close;
-}
-
-CalibrationResult velocity_method(const GatedSamples& gated,
-                                  const RadarVelocityMethodOptions& options) {
-  const std::vector<RadarSample>& samples = gated.samples;
-  if (static_cast<int>(samples.size()) < options.min_static_points) {
-    return insufficient_velocity(
-        fmt::format("only {} radar detections taken while the car moved straight at >= the "
-                    "minimum speed (fastest {:.1f} m/s); need {}",
-                    samples.size(), gated.max_speed_mps, options.min_static_points));
-  }
-  const CoarseSearch coarse = coarse_yaw_search(samples, options);
-  const VelocityFit fit = refine_yaw(samples, coarse.yaw, options);
-  if (!fit.ok || fit.static_count < options.min_static_points) {
-    return insufficient_velocity(
-        fmt::format("only {} detections fit the static-target model; need {}", fit.static_count,
-                    options.min_static_points));
-  }
-  const WindowEstimates windows = window_estimates(samples, fit.static_mask, fit.yaw, options);
-
-  CalibrationResult result;
-  result.sensor = "radar";
-  result.method = "velocity";
-  result.status = CalibrationStatus::kOk;
-  result.yaw = fit.yaw;
-  result.yaw_std = fit.formal_std;
-  // The global fit is the estimate (it weighs every detection by its information); the windows'
-  // spread, inverse-variance weighted, gives its standard error when there are enough of them.
-  std::int64_t outlier_windows = 0;
-  if (static_cast<int>(windows.yaws.size()) >= options.min_windows_for_spread) {
-    const std::vector<bool> inliers =
-        mad_inlier_mask(windows.yaws, {.k = 3.0, .min_sigma = rad_from_deg(0.01)});
-    std::vector<double> yaws;
-    std::vector<double> weights;
-    for (std::size_t i = 0; i < inliers.size(); ++i) {
-      if (!inliers[i]) {
-        ++outlier_windows;
-        continue;
-      }
-      yaws.push_back(windows.yaws[i]);
-      weights.push_back(windows.weights[i]);
-    }
-    if (yaws.size() >= 2) {
-      result.yaw_std = std::max(standard_error_of_weighted_mean(yaws, weights), fit.formal_std);
-    }
-  }
-  result.support = {{"detections", static_cast<std::int64_t>(samples.size())},
-                    {"static_detections", fit.static_count},
-                    {"windows", static_cast<std::int64_t>(windows.yaws.size()) - outlier_windows}};
-  result.rejections = {{"not_static", static_cast<std::int64_t>(samples.size()) - fit.static_count},
-                       {"outlier_windows", outlier_windows}};
-  result.diagnostics = {{"coarse_yaw_deg", deg_from_rad(coarse.yaw)},
-                        {"coarse_consistent_fraction", static_cast<double>(coarse.consistent) /
-                                                           static_cast<double>(samples.size())},
-                        {"fit_yaw_deg", deg_from_rad(fit.yaw)},
-                        {"fit_formal_std_deg", deg_from_rad(fit.formal_std)},
-                        {"residual_sigma_mps", fit.residual_sigma_mps},
-                        {"iterations", fit.iterations}};
-  result.series.push_back({"window_yaw", "rad", windows.times, windows.yaws});
-  return result;
 }
 
 }  // namespace
@@ -195,6 +103,7 @@ void RadarCalibrationOptions::Check() const {
   check.non_negative("max_yaw_rate_with_lever_arm", max_yaw_rate_with_lever_arm);
   check.non_negative("min_range_m", min_range_m);
   check.positive("yaw_rate_window_s", yaw_rate_window_s);
+  check.positive("max_ins_gap_s", max_ins_gap_s);
   velocity.Check();
   position.Check();
   automatic.Check();
@@ -242,10 +151,13 @@ CalibrationResult calibrate_radar(std::span<const io::RadarDetection> detections
     result.method = to_string(options.method);
     return result;
   }
-  const RadarEgoMotion motion =
-      radar_ego_motion(detections, ins, options.lever_arm_in_vehicle, options.yaw_rate_window_s);
+  const RadarEgoMotion motion = radar_ego_motion(detections, ins, options.lever_arm_in_vehicle,
+                                                 options.yaw_rate_window_s, options.max_ins_gap_s);
   const GatedSamples gated = gate_samples(motion, options);
-  const auto by_velocity = [&] { return velocity_method(gated, options.velocity); };
+  const auto by_velocity = [&] {
+    return velocity_method_result(
+        estimate_yaw_by_velocity(gated.samples, gated.max_speed_mps, options.velocity));
+  };
   const auto by_position = [&] {
     if (gated.samples.empty()) {
       CalibrationResult result = insufficient_data(
@@ -279,6 +191,11 @@ CalibrationResult calibrate_radar(std::span<const io::RadarDetection> detections
   if (gated.outside_ins_span > 0 && !result.ok()) {
     result.reason +=
         fmt::format(" ({} detections outside the GNSS/INS time span)", gated.outside_ins_span);
+  }
+  if (gated.in_ins_gap > 0 && !result.ok()) {
+    result.reason += fmt::format(
+        " ({} detections between GNSS/INS records more than {:g} s apart, max_ins_gap_s)",
+        gated.in_ins_gap, options.max_ins_gap_s);
   }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

@@ -146,6 +146,9 @@ struct RadarCalibrationOptions {
   double min_range_m = 1.0;                                 // closer detections dropped [m]
   // The yaw rate is the slope of the INS yaw over this window (radar_ego_motion.hpp) [s].
   double yaw_rate_window_s = 1.0;
+  // Detections between two GNSS/INS records further apart than this are dropped and counted
+  // (rejections["in_ins_gap"]): there is no motion to interpolate there [s].
+  double max_ins_gap_s = 1.0;
   RadarVelocityMethodOptions velocity;
   RadarPositionMethodOptions position;
   RadarAutoOptions automatic;
@@ -154,9 +157,9 @@ struct RadarCalibrationOptions {
 };
 
 // `detections` with times on the INS clock (radar_to_ins_time_offset), `ins` with strictly
-// increasing times. Detections outside the INS span are dropped and counted
-// (rejections["outside_ins_span"]). Returns an ok result or insufficient_data with a reason, never
-// NaN angles; throws std::invalid_argument only on invalid options.
+// increasing times. Detections outside the INS span, or in a gap of it, are dropped and counted
+// (rejections["outside_ins_span"], ["in_ins_gap"]). Returns an ok result or insufficient_data with
+// a reason, never NaN angles; throws std::invalid_argument only on invalid options.
 CalibrationResult calibrate_radar(std::span<const io::RadarDetection> detections,
                                   std::span<const io::InsRecord> ins,
                                   const RadarCalibrationOptions& options = {});

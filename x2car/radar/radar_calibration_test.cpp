@@ -2,14 +2,19 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "x2car/io/ins_log.hpp"
 #include "x2car/io/novatel_csv.hpp"
+#include "x2car/io/result_json.hpp"
 #include "x2car/radar/radar_ego_motion.hpp"
 #include "x2car/radar/radar_velocity_method.hpp"
 #include "x2car/sim/radar_model.hpp"
@@ -165,6 +170,63 @@ TEST(RadarCalibration, DetectionsOutsideTheInsSpanAreCounted) {
       calibrate_radar(detections, drive.simulation.ins, with_lever_arm());
   ASSERT_TRUE(result.ok()) << result.reason;
   EXPECT_EQ(result.rejections.at("outside_ins_span"), 7);
+}
+
+// Issue 11: a jump in the stamps of both logs; the result is that of the logs without it, and no
+// detection is given a motion interpolated across the gap.
+TEST(RadarCalibration, AMillionSecondJumpInTheStampsCalibratesAsWithoutIt) {
+  const RadarDrive& drive = urban_radar_drive(1);
+  const auto detections = radar_detections(drive, 5.0, sim::RadarOptions::conti_ars408(), 1);
+  std::vector<io::InsRecord> ins = drive.simulation.ins;
+  std::vector<io::RadarDetection> jumped = detections;
+  const double jump_from = 30.0;
+  for (io::InsRecord& record : ins) {
+    if (record.time > jump_from) record.time += 1e6;
+  }
+  std::int64_t in_gap = 0;
+  const double first_after = std::ranges::find_if(drive.simulation.ins, [&](const auto& record) {
+                               return record.time > jump_from;
+                             })->time;
+  for (io::RadarDetection& detection : jumped) {
+    if (detection.time > jump_from && detection.time < first_after) ++in_gap;
+    if (detection.time > jump_from) detection.time += 1e6;
+  }
+  const CalibrationResult plain = calibrate_radar(detections, drive.simulation.ins);
+  const CalibrationResult result = calibrate_radar(jumped, ins);
+  ASSERT_TRUE(plain.ok()) << plain.reason;
+  ASSERT_TRUE(result.ok()) << result.reason;
+  EXPECT_EQ(result.method, plain.method);
+  EXPECT_EQ(result.rejections.at("in_ins_gap"), in_gap);
+  EXPECT_NEAR(deg_from_rad(angle_difference(*result.yaw, *plain.yaw)), 0.0, 0.02);
+  EXPECT_NEAR(deg_from_rad(angle_difference(*result.yaw, rad_from_deg(5.0))), 0.0, 0.1);
+}
+
+TEST(RadarCalibration, ASparseInsLogSaysWhyTheDetectionsWereDropped) {
+  const RadarDrive& drive = urban_radar_drive(1);
+  const auto detections = radar_detections(drive, 5.0, sim::RadarOptions::conti_ars408(), 1);
+  std::vector<io::InsRecord> every_two_seconds;
+  for (std::size_t i = 0; i < drive.simulation.ins.size(); i += 200) {
+    every_two_seconds.push_back(drive.simulation.ins[i]);
+  }
+  const CalibrationResult result = calibrate_radar(detections, every_two_seconds);
+  EXPECT_FALSE(result.ok());
+  EXPECT_GT(result.rejections.at("in_ins_gap"), 0);
+  EXPECT_THAT(result.reason, HasSubstr("max_ins_gap_s"));
+}
+
+// Issue 11: identical result bytes (timing left out) across runs and thread counts.
+TEST(RadarCalibration, IdenticalBytesAcrossRunsAndThreadCounts) {
+  const RadarDrive& drive = urban_radar_drive(2);
+  const auto detections = radar_detections(drive, -3.0, sim::RadarOptions::conti_ars408(), 2);
+  io::ResultJsonOptions reproducible;
+  reproducible.include_timing = false;
+  const auto run = [&](int threads) {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    return io::format_result_json(calibrate_radar(detections, drive.simulation.ins), reproducible);
+  };
+  const std::string first = run(2);
+  EXPECT_EQ(run(2), first);
+  EXPECT_EQ(run(1), first);
 }
 
 TEST(RadarCalibration, NoDetectionsIsInsufficientDataNotACrash) {

@@ -107,7 +107,7 @@ std::vector<Eigen::Vector2d> dead_reckoning(std::span<const CarMotion> motion,
 RadarEgoMotion radar_ego_motion(std::span<const io::RadarDetection> detections,
                                 std::span<const io::InsRecord> ins,
                                 const std::optional<Eigen::Vector2d>& lever_arm_in_vehicle,
-                                double yaw_rate_window_s) {
+                                double yaw_rate_window_s, double max_ins_gap_s) {
   if (ins.size() < 2) {
     throw std::invalid_argument("radar_ego_motion: need at least 2 GNSS/INS records");
   }
@@ -128,6 +128,10 @@ RadarEgoMotion radar_ego_motion(std::span<const io::RadarDetection> detections,
     const std::size_t after =
         std::min(static_cast<std::size_t>(upper - ins.begin()), ins.size() - 1);
     const std::size_t before = after - 1;
+    if (ins[after].time - ins[before].time > max_ins_gap_s) {
+      ++result.counts.in_ins_gap;
+      continue;
+    }
     const double fraction =
         (detection.time - ins[before].time) / (ins[after].time - ins[before].time);
     RadarSample sample;

@@ -59,6 +59,7 @@ struct CarMotion {
 
 struct RadarEgoMotionCounts {
   std::int64_t outside_ins_span = 0;  // detections before the first or after the last INS record
+  std::int64_t in_ins_gap = 0;        // detections between two INS records too far apart
 };
 
 struct RadarEgoMotion {
@@ -69,12 +70,15 @@ struct RadarEgoMotion {
 
 // `detections` with times on the INS log's clock (see align_radar_times), `ins` with strictly
 // increasing times and at least 2 records. `lever_arm_in_vehicle` is t_V_R's x, y [m] when known.
-// Speed and yaw rate are interpolated linearly between the INS records around each detection.
-// Throws std::invalid_argument when `ins` has fewer than 2 records.
+// Speed and yaw rate are interpolated linearly between the INS records around each detection;
+// a detection between two records more than `max_ins_gap_s` apart (a logger pause, a jump in the
+// stamps) has no motion to interpolate and is dropped and counted. Nothing here spans a gap, so
+// the cost follows the records, not the time. Throws std::invalid_argument when `ins` has fewer
+// than 2 records.
 RadarEgoMotion radar_ego_motion(std::span<const io::RadarDetection> detections,
                                 std::span<const io::InsRecord> ins,
                                 const std::optional<Eigen::Vector2d>& lever_arm_in_vehicle,
-                                double yaw_rate_window_s = 1.0);
+                                double yaw_rate_window_s = 1.0, double max_ins_gap_s = 1.0);
 
 // Offset [s] to add to radar times to put them on the INS clock: radar_start_unix_time -
 // ins_start_unix_time when both logs carry absolute times, 0 otherwise (the generic radar CSV is

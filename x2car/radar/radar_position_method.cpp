@@ -105,17 +105,6 @@ struct PairRecord {
   double weight = 0.0;  // c / var(psi)
 };
 
-struct PairCounts {
-  std::int64_t short_tracks = 0;    // objects with fewer than min_observations detections
-  std::int64_t short_baseline = 0;  // pairs
-  std::int64_t turning_pair = 0;    // pairs
-  std::int64_t moving_objects = 0;  // objects failing the triangle test
-  std::int64_t not_closing = 0;     // pairs of static objects failing it
-  std::int64_t low_confidence = 0;  // pairs below min_confidence
-  std::int64_t static_objects = 0;
-  std::int64_t objects = 0;  // with enough detections
-};
-
 // Pairs observation j with j + n/2: every detection is used once, so the pairs' errors are
 // independent (pairing all with the first, as the paper does, shares the first's error), and the
 // baselines are half the track, long enough for a well-shaped triangle.
@@ -173,15 +162,6 @@ std::vector<PairRecord> static_object_pairs(std::span<const RadarSample> samples
   }
   return pairs;
 }
-
-struct Combination {
-  double yaw = 0.0;               // [rad]
-  double standard_error = 0.0;    // [rad]
-  double normalised_sigma = 0.0;  // robust sigma of (psi_i - psi) / sigma_i: actual / nominal noise
-  std::vector<std::uint8_t> inliers;
-  std::int64_t outliers = 0;
-  std::int64_t objects = 0;  // static objects with inlier pairs
-};
 
 // Robust weighted mean: reject pairs far from the mean in units of their own sigma, scaled by the
 // robust spread of the normalised residuals (the nominal noise may be off), and iterate.
@@ -248,12 +228,6 @@ Combination combine_pairs(std::span<const PairRecord> pairs,
         combination.standard_error, standard_error_of_weighted_mean(object_means, object_weights));
   }
   return combination;
-}
-
-CalibrationResult insufficient_position(std::string reason) {
-  CalibrationResult result = insufficient_data("radar", std::move(reason));
-  result.method = "position";
-  return result;
 }
 
 }  // namespace
@@ -335,84 +309,105 @@ double velocity_confidence(const RadarSample& sample, double yaw,
   return std::clamp(1.0 - std::abs(sample.range_rate - expected) / scale, 0.0, 1.0);
 }
 
+RadarPositionEstimate estimate_yaw_by_position(
+    std::span<const RadarSample> samples, std::span<const CarMotion> records,
+    const std::optional<Eigen::Vector2d>& lever_arm_in_vehicle,
+    const RadarPositionMethodOptions& options) {
+  RadarPositionEstimate estimate;
+  const StraightStretches stretches = straight_stretches(samples, records, options.straight);
+  estimate.straight_segments = static_cast<std::int64_t>(stretches.segmentation.segments.size());
+  const ObjectGrouping grouping = group_objects(samples, stretches.segment_of_sample, options);
+  estimate.no_track_id = grouping.no_track_id;
+  estimate.off_straight = grouping.off_straight;
+  const std::vector<PairRecord> pairs = static_object_pairs(
+      samples, grouping.objects, lever_arm_in_vehicle, options, estimate.counts);
+  estimate.pairs = static_cast<std::int64_t>(pairs.size());
+  if (samples.empty()) {
+    estimate.insufficient_reason = "no radar detections left for the position method";
+    return estimate;
+  }
+  if (grouping.no_track_id == static_cast<std::int64_t>(samples.size())) {
+    estimate.insufficient_reason =
+        "the radar detections carry no track ids; the position method groups by track id";
+    return estimate;
+  }
+  if (stretches.segmentation.segments.empty()) {
+    estimate.insufficient_reason =
+        fmt::format("no straight stretch of at least {:.1f} s above {:.1f} m/s in the GNSS/INS log",
+                    options.straight.min_duration_s, options.straight.min_speed);
+    return estimate;
+  }
+  const PairCounts& counts = estimate.counts;
+  if (counts.static_objects < options.min_static_objects ||
+      static_cast<int>(pairs.size()) < options.min_pairs) {
+    estimate.insufficient_reason = fmt::format(
+        "only {} static objects and {} usable observation pairs (baseline >= {:.1f} m); need {} "
+        "and {} ({} pairs had a shorter baseline, {} objects failed the triangle test)",
+        counts.static_objects, pairs.size(), options.min_baseline_m, options.min_static_objects,
+        options.min_pairs, counts.short_baseline, counts.moving_objects);
+    return estimate;
+  }
+  estimate.combination = combine_pairs(pairs, options);
+  const Combination& combination = estimate.combination;
+  if (static_cast<int>(pairs.size()) - combination.outliers < options.min_pairs) {
+    estimate.insufficient_reason =
+        fmt::format("only {} of {} observation pairs agree with each other; need {}",
+                    static_cast<std::int64_t>(pairs.size()) - combination.outliers, pairs.size(),
+                    options.min_pairs);
+    return estimate;
+  }
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    if (!combination.inliers[i]) continue;
+    estimate.inlier_baselines_m.push_back(pairs[i].estimate.baseline_m);
+    estimate.inlier_confidences.push_back(pairs[i].estimate.confidence);
+    estimate.inlier_times.push_back(pairs[i].time);
+    estimate.inlier_yaws.push_back(pairs[i].estimate.yaw);
+  }
+  return estimate;
+}
+
+CalibrationResult position_method_result(const RadarPositionEstimate& estimate) {
+  CalibrationResult result;
+  if (estimate.insufficient_reason) {
+    result = insufficient_data("radar", *estimate.insufficient_reason);
+  } else {
+    result.sensor = "radar";
+    result.status = CalibrationStatus::kOk;
+  }
+  result.method = "position";
+  const PairCounts& counts = estimate.counts;
+  result.rejections = {{"no_track_id", estimate.no_track_id},
+                       {"off_straight_segments", estimate.off_straight},
+                       {"short_tracks", counts.short_tracks},
+                       {"moving_objects", counts.moving_objects},
+                       {"short_baseline_pairs", counts.short_baseline},
+                       {"turning_pairs", counts.turning_pair},
+                       {"not_closing_pairs", counts.not_closing},
+                       {"low_confidence_pairs", counts.low_confidence}};
+  result.support = {{"straight_segments", estimate.straight_segments},
+                    {"objects", counts.objects},
+                    {"static_objects", counts.static_objects},
+                    {"pairs", estimate.pairs}};
+  if (estimate.insufficient_reason) return result;
+  const Combination& combination = estimate.combination;
+  result.yaw = combination.yaw;
+  result.yaw_std = combination.standard_error;
+  result.rejections["outlier_pairs"] = combination.outliers;
+  result.support["pairs"] = estimate.pairs - combination.outliers;
+  result.support["objects_with_pairs"] = combination.objects;
+  result.diagnostics = {{"median_baseline_m", median(estimate.inlier_baselines_m)},
+                        {"median_confidence", median(estimate.inlier_confidences)},
+                        {"noise_vs_nominal", combination.normalised_sigma}};
+  result.series.push_back({"pair_yaw", "rad", estimate.inlier_times, estimate.inlier_yaws});
+  return result;
+}
+
 CalibrationResult position_method(std::span<const RadarSample> samples,
                                   std::span<const CarMotion> records,
                                   const std::optional<Eigen::Vector2d>& lever_arm_in_vehicle,
                                   const RadarPositionMethodOptions& options) {
-  const StraightStretches stretches = straight_stretches(samples, records, options.straight);
-  const ObjectGrouping grouping = group_objects(samples, stretches.segment_of_sample, options);
-  PairCounts counts;
-  const std::vector<PairRecord> pairs =
-      static_object_pairs(samples, grouping.objects, lever_arm_in_vehicle, options, counts);
-
-  const auto with_counts = [&](CalibrationResult result) {
-    result.rejections = {{"no_track_id", grouping.no_track_id},
-                         {"off_straight_segments", grouping.off_straight},
-                         {"short_tracks", counts.short_tracks},
-                         {"moving_objects", counts.moving_objects},
-                         {"short_baseline_pairs", counts.short_baseline},
-                         {"turning_pairs", counts.turning_pair},
-                         {"not_closing_pairs", counts.not_closing},
-                         {"low_confidence_pairs", counts.low_confidence}};
-    result.support = {
-        {"straight_segments", static_cast<std::int64_t>(stretches.segmentation.segments.size())},
-        {"objects", counts.objects},
-        {"static_objects", counts.static_objects},
-        {"pairs", static_cast<std::int64_t>(pairs.size())}};
-    return result;
-  };
-  if (samples.empty()) {
-    return with_counts(insufficient_position("no radar detections left for the position method"));
-  }
-  if (grouping.no_track_id == static_cast<std::int64_t>(samples.size())) {
-    return with_counts(insufficient_position(
-        "the radar detections carry no track ids; the position method groups by track id"));
-  }
-  if (stretches.segmentation.segments.empty()) {
-    return with_counts(insufficient_position(
-        fmt::format("no straight stretch of at least {:.1f} s above {:.1f} m/s in the GNSS/INS log",
-                    options.straight.min_duration_s, options.straight.min_speed)));
-  }
-  if (counts.static_objects < options.min_static_objects ||
-      static_cast<int>(pairs.size()) < options.min_pairs) {
-    return with_counts(insufficient_position(fmt::format(
-        "only {} static objects and {} usable observation pairs (baseline >= {:.1f} m); need {} "
-        "and {} ({} pairs had a shorter baseline, {} objects failed the triangle test)",
-        counts.static_objects, pairs.size(), options.min_baseline_m, options.min_static_objects,
-        options.min_pairs, counts.short_baseline, counts.moving_objects)));
-  }
-
-  const Combination combination = combine_pairs(pairs, options);
-  if (static_cast<int>(pairs.size()) - combination.outliers < options.min_pairs) {
-    return with_counts(insufficient_position(
-        fmt::format("only {} of {} observation pairs agree with each other; need {}",
-                    static_cast<std::int64_t>(pairs.size()) - combination.outliers, pairs.size(),
-                    options.min_pairs)));
-  }
-  CalibrationResult result = with_counts(CalibrationResult{});
-  result.sensor = "radar";
-  result.method = "position";
-  result.status = CalibrationStatus::kOk;
-  result.yaw = combination.yaw;
-  result.yaw_std = combination.standard_error;
-  result.rejections["outlier_pairs"] = combination.outliers;
-  result.support["pairs"] = static_cast<std::int64_t>(pairs.size()) - combination.outliers;
-  result.support["objects_with_pairs"] = combination.objects;
-  std::vector<double> baselines;
-  std::vector<double> confidences;
-  Series series{.name = "pair_yaw", .unit = "rad", .time = {}, .value = {}};
-  for (std::size_t i = 0; i < pairs.size(); ++i) {
-    if (!combination.inliers[i]) continue;
-    baselines.push_back(pairs[i].estimate.baseline_m);
-    confidences.push_back(pairs[i].estimate.confidence);
-    series.time.push_back(pairs[i].time);
-    series.value.push_back(pairs[i].estimate.yaw);
-  }
-  result.diagnostics = {{"median_baseline_m", median(baselines)},
-                        {"median_confidence", median(confidences)},
-                        {"noise_vs_nominal", combination.normalised_sigma}};
-  result.series.push_back(std::move(series));
-  return result;
+  return position_method_result(
+      estimate_yaw_by_position(samples, records, lever_arm_in_vehicle, options));
 }
 
 }  // namespace x2car::radar

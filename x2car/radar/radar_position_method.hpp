@@ -3,6 +3,9 @@
 // each pair of observations of a static object, the velocity-consistency confidence, and the robust
 // weighted mean. Internal to x2car::radar.
 //
+// The paper's eq:radar_angle_1 (the triangle test) and eq:radar_angle_2 (psi from a pair) are
+// estimate_pair's closure_m and yaw; position_method combines the pairs.
+//
 // Geometry of one pair, exact (no small-angle shortcut). Observations 0 and 1 of one object at
 // ranges l0, l1 and azimuths th0, th1; between them the car turned by dh (INS yaw difference) and
 // the radar moved by b in the car's frame at observation 0:
@@ -28,6 +31,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "x2car/core/calibration_result.hpp"
@@ -74,8 +78,60 @@ PairEstimate estimate_pair(const RadarSample& first, const RadarSample& second,
 double velocity_confidence(const RadarSample& sample, double yaw,
                            const RadarPositionMethodOptions& options);
 
+// What the pairing left out, and the objects it kept.
+struct PairCounts {
+  std::int64_t short_tracks = 0;    // objects with fewer than min_observations detections
+  std::int64_t short_baseline = 0;  // pairs
+  std::int64_t turning_pair = 0;    // pairs
+  std::int64_t moving_objects = 0;  // objects failing the triangle test
+  std::int64_t not_closing = 0;     // pairs of static objects failing it
+  std::int64_t low_confidence = 0;  // pairs below min_confidence
+  std::int64_t static_objects = 0;
+  std::int64_t objects = 0;  // with enough detections
+};
+
+// The pairs' robust weighted mean (the paper averages the psi_i of eq:radar_angle_2).
+struct Combination {
+  double yaw = 0.0;               // [rad]
+  double standard_error = 0.0;    // [rad]
+  double normalised_sigma = 0.0;  // robust sigma of (psi_i - psi) / sigma_i: actual / nominal noise
+  std::vector<std::uint8_t> inliers;
+  std::int64_t outliers = 0;
+  std::int64_t objects = 0;  // static objects with inlier pairs
+};
+
+// The position method's typed estimate: the counts at each step and, when it succeeded, the
+// combination and the inlier pairs (their baselines, confidences, times and yaws).
+struct RadarPositionEstimate {
+  std::optional<std::string> insufficient_reason;  // set: the combination below is empty
+  std::int64_t straight_segments = 0;
+  std::int64_t no_track_id = 0;   // detections
+  std::int64_t off_straight = 0;  // detections
+  PairCounts counts;
+  std::int64_t pairs = 0;  // usable pairs, before the outlier rejection
+  Combination combination;
+  std::vector<double> inlier_baselines_m;
+  std::vector<double> inlier_confidences;
+  std::vector<double> inlier_times;  // of each pair's later observation [s]
+  std::vector<double> inlier_yaws;   // [rad]
+};
+
 // The whole method on gated samples (time order) with the per-record motion for the straight
-// stretches. Returns a result with method "position": ok, or insufficient data with a reason.
+// stretches.
+RadarPositionEstimate estimate_yaw_by_position(
+    std::span<const RadarSample> samples, std::span<const CarMotion> records,
+    const std::optional<Eigen::Vector2d>& lever_arm_in_vehicle,
+    const RadarPositionMethodOptions& options);
+
+// The estimate as a result with method "position": yaw and yaw_std, support (straight_segments,
+// objects, static_objects, pairs, objects_with_pairs), rejections (no_track_id,
+// off_straight_segments, short_tracks, moving_objects, short_baseline_pairs, turning_pairs,
+// not_closing_pairs, low_confidence_pairs, outlier_pairs), diagnostics (median_baseline_m,
+// median_confidence, noise_vs_nominal) and the pair_yaw series; or insufficient data with the
+// reason and the counts.
+CalibrationResult position_method_result(const RadarPositionEstimate& estimate);
+
+// estimate_yaw_by_position written by position_method_result.
 CalibrationResult position_method(std::span<const RadarSample> samples,
                                   std::span<const CarMotion> records,
                                   const std::optional<Eigen::Vector2d>& lever_arm_in_vehicle,

@@ -1,7 +1,10 @@
 #include "x2car/radar/radar_velocity_method.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "x2car/core/robust_stats.hpp"
 
@@ -143,6 +146,103 @@ VelocityFit refine_yaw(std::span<const RadarSample> samples, double initial_yaw,
   fit.formal_std = fit.residual_sigma_mps / std::sqrt(information);
   fit.ok = std::isfinite(fit.yaw) && std::isfinite(fit.formal_std);
   return fit;
+}
+
+WindowEstimates window_estimates(std::span<const RadarSample> samples,
+                                 std::span<const std::uint8_t> static_mask, double yaw,
+                                 const RadarVelocityMethodOptions& options) {
+  std::map<std::int64_t, std::vector<RadarSample>> windows;
+  const double t0 = samples.front().time;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    if (!static_mask[i]) continue;
+    windows[static_cast<std::int64_t>(std::floor((samples[i].time - t0) / options.window_s))]
+        .push_back(samples[i]);
+  }
+  WindowEstimates estimates;
+  for (const auto& [index, window] : windows) {
+    if (static_cast<int>(window.size()) < options.min_window_points) continue;
+    const VelocityFit fit = fit_yaw_on(window, yaw, options);
+    if (!fit.ok || !(fit.formal_std > 0.0)) continue;
+    estimates.times.push_back(t0 + (static_cast<double>(index) + 0.5) * options.window_s);
+    estimates.yaws.push_back(yaw + angle_difference(fit.yaw, yaw));
+    estimates.weights.push_back(1.0 / (fit.formal_std * fit.formal_std));
+  }
+  return estimates;
+}
+
+RadarVelocityEstimate estimate_yaw_by_velocity(std::span<const RadarSample> samples,
+                                               double max_speed_mps,
+                                               const RadarVelocityMethodOptions& options) {
+  RadarVelocityEstimate estimate;
+  estimate.detections = static_cast<std::int64_t>(samples.size());
+  if (estimate.detections < options.min_static_points) {
+    estimate.insufficient_reason = fmt::format(
+        "only {} radar detections taken while the car moved straight at >= the "
+        "minimum speed (fastest {:.1f} m/s); need {}",
+        samples.size(), max_speed_mps, options.min_static_points);
+    return estimate;
+  }
+  estimate.coarse = coarse_yaw_search(samples, options);
+  estimate.fit = refine_yaw(samples, estimate.coarse.yaw, options);
+  const VelocityFit& fit = estimate.fit;
+  if (!fit.ok || fit.static_count < options.min_static_points) {
+    estimate.insufficient_reason =
+        fmt::format("only {} detections fit the static-target model; need {}", fit.static_count,
+                    options.min_static_points);
+    return estimate;
+  }
+  estimate.windows = window_estimates(samples, fit.static_mask, fit.yaw, options);
+  estimate.yaw_std = fit.formal_std;
+  const WindowEstimates& windows = estimate.windows;
+  if (static_cast<int>(windows.yaws.size()) >= options.min_windows_for_spread) {
+    const std::vector<bool> inliers =
+        mad_inlier_mask(windows.yaws, {.k = 3.0, .min_sigma = rad_from_deg(0.01)});
+    std::vector<double> yaws;
+    std::vector<double> weights;
+    for (std::size_t i = 0; i < inliers.size(); ++i) {
+      if (!inliers[i]) {
+        ++estimate.outlier_windows;
+        continue;
+      }
+      yaws.push_back(windows.yaws[i]);
+      weights.push_back(windows.weights[i]);
+    }
+    if (yaws.size() >= 2) {
+      estimate.yaw_std = std::max(standard_error_of_weighted_mean(yaws, weights), fit.formal_std);
+    }
+  }
+  return estimate;
+}
+
+CalibrationResult velocity_method_result(const RadarVelocityEstimate& estimate) {
+  if (estimate.insufficient_reason) {
+    CalibrationResult result = insufficient_data("radar", *estimate.insufficient_reason);
+    result.method = "velocity";
+    return result;
+  }
+  const VelocityFit& fit = estimate.fit;
+  CalibrationResult result;
+  result.sensor = "radar";
+  result.method = "velocity";
+  result.status = CalibrationStatus::kOk;
+  result.yaw = fit.yaw;
+  result.yaw_std = estimate.yaw_std;
+  const auto windows = static_cast<std::int64_t>(estimate.windows.yaws.size());
+  result.support = {{"detections", estimate.detections},
+                    {"static_detections", fit.static_count},
+                    {"windows", windows - estimate.outlier_windows}};
+  result.rejections = {{"not_static", estimate.detections - fit.static_count},
+                       {"outlier_windows", estimate.outlier_windows}};
+  result.diagnostics = {
+      {"coarse_yaw_deg", deg_from_rad(estimate.coarse.yaw)},
+      {"coarse_consistent_fraction",
+       static_cast<double>(estimate.coarse.consistent) / static_cast<double>(estimate.detections)},
+      {"fit_yaw_deg", deg_from_rad(fit.yaw)},
+      {"fit_formal_std_deg", deg_from_rad(fit.formal_std)},
+      {"residual_sigma_mps", fit.residual_sigma_mps},
+      {"iterations", fit.iterations}};
+  result.series.push_back({"window_yaw", "rad", estimate.windows.times, estimate.windows.yaws});
+  return result;
 }
 
 }  // namespace x2car::radar
