@@ -11,6 +11,7 @@
 
 #include "x2car/core/enum_names.hpp"
 #include "x2car/core/error.hpp"
+#include "x2car/core/options_check.hpp"
 #include "x2car/core/rotation.hpp"
 #include "x2car/io/novatel_csv.hpp"
 #include "x2car/io/radar_conti.hpp"
@@ -442,13 +443,13 @@ RadarLayout detect_radar_layout(const std::filesystem::path& input) {
 }
 
 void RadarReadOptions::Check() const {
-  if (layout && *layout != RadarLayout::kConti && *layout != RadarLayout::kDelphi &&
-      *layout != RadarLayout::kGeneric) {
-    throw std::invalid_argument("RadarReadOptions: layout is not a RadarLayout");
-  }
-  if (angle_unit != AngleUnit::kRadians && angle_unit != AngleUnit::kDegrees) {
-    throw std::invalid_argument("RadarReadOptions: angle_unit is not an AngleUnit");
-  }
+  // Enum values cast from a bad number (e.g. a binding's int) are named rather than misread.
+  const OptionsCheck check("RadarReadOptions");
+  check.that(!layout || *layout == RadarLayout::kConti || *layout == RadarLayout::kDelphi ||
+                 *layout == RadarLayout::kGeneric,
+             "layout", "must be a RadarLayout");
+  check.that(angle_unit == AngleUnit::kRadians || angle_unit == AngleUnit::kDegrees, "angle_unit",
+             "must be an AngleUnit");
 }
 
 RadarLog read_radar(const std::filesystem::path& input, const RadarReadOptions& options) {

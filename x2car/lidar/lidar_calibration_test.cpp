@@ -102,7 +102,7 @@ const SimulatedLidarDrive& short_drive() {
 }
 
 TEST(LidarCalibration, RollPitchAndHeightAreShownWhenOnlyTheYawLacksData) {
-  const CalibrationResult result = calibrate_lidar(short_drive().source());
+  const CalibrationResult result = calibrate_lidar(testing::sweep_source(short_drive()));
   EXPECT_EQ(result.status, CalibrationStatus::kInsufficientData);
   EXPECT_THAT(result.reason, HasSubstr("yaw: only"));
   EXPECT_THAT(result.reason, HasSubstr("need 20 s"));
@@ -131,7 +131,7 @@ TEST(LidarCalibration, RollPitchAndHeightAreShownWhenOnlyTheYawLacksData) {
 }
 
 TEST(LidarCalibration, BadSweepsAreSkippedAndCountedWhenAsked) {
-  SweepSource source = short_drive().source();
+  SweepSource source = testing::sweep_source(short_drive());
   const auto read = source.read;
   source.read = [read](std::size_t index) {
     if (index == 40 || index == 41) {
@@ -143,7 +143,7 @@ TEST(LidarCalibration, BadSweepsAreSkippedAndCountedWhenAsked) {
 
   LidarCalibrationOptions options;
   options.alignment.min_valid_duration_s = 5.0;
-  const CalibrationResult all_read = calibrate_lidar(short_drive().source(), options);
+  const CalibrationResult all_read = calibrate_lidar(testing::sweep_source(short_drive()), options);
   ASSERT_TRUE(all_read.ok()) << all_read.reason;
   options.skip_bad_sweeps = true;
   std::vector<std::size_t> done;
@@ -170,7 +170,7 @@ TEST(LidarCalibration, BadSweepsAreSkippedAndCountedWhenAsked) {
 // sweeps' deskew times, come out of order. An input error naming the sweep and the field, not the
 // odometry's internal "sweep times must increase".
 TEST(LidarCalibration, PerPointTimesThatReorderThePosesAreAnInputError) {
-  SweepSource source = short_drive().source();
+  SweepSource source = testing::sweep_source(short_drive());
   const auto read = source.read;
   source.read = [read](std::size_t index) {
     io::PointCloud cloud = read(index);
@@ -196,7 +196,8 @@ TEST(LidarCalibration, IdenticalBytesAcrossRunsAndThreadCounts) {
   reproducible.include_timing = false;
   const auto run = [&](int threads) {
     const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-    return io::format_result_json(calibrate_lidar(short_drive().source(), options), reproducible);
+    return io::format_result_json(calibrate_lidar(testing::sweep_source(short_drive()), options),
+                                  reproducible);
   };
   EXPECT_EQ(run(1), run(2));  // two runs, one and two threads
 }

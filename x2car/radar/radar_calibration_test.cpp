@@ -175,7 +175,7 @@ TEST(RadarCalibration, DetectionsOutsideTheInsSpanAreCounted) {
 // Issue 11: a jump in the stamps of both logs; the result is that of the logs without it, and no
 // detection is given a motion interpolated across the gap.
 TEST(RadarCalibration, AMillionSecondJumpInTheStampsCalibratesAsWithoutIt) {
-  const Drive& drive = urban_drive(1);
+  const RadarDrive& drive = urban_radar_drive(1);
   const auto detections = radar_detections(drive, 5.0, sim::RadarOptions::conti_ars408(), 1);
   std::vector<io::InsRecord> ins = drive.simulation.ins;
   std::vector<io::RadarDetection> jumped = detections;
@@ -202,7 +202,7 @@ TEST(RadarCalibration, AMillionSecondJumpInTheStampsCalibratesAsWithoutIt) {
 }
 
 TEST(RadarCalibration, ASparseInsLogSaysWhyTheDetectionsWereDropped) {
-  const Drive& drive = urban_drive(1);
+  const RadarDrive& drive = urban_radar_drive(1);
   const auto detections = radar_detections(drive, 5.0, sim::RadarOptions::conti_ars408(), 1);
   std::vector<io::InsRecord> every_two_seconds;
   for (std::size_t i = 0; i < drive.simulation.ins.size(); i += 200) {
@@ -216,7 +216,7 @@ TEST(RadarCalibration, ASparseInsLogSaysWhyTheDetectionsWereDropped) {
 
 // Issue 11: identical result bytes (timing left out) across runs and thread counts.
 TEST(RadarCalibration, IdenticalBytesAcrossRunsAndThreadCounts) {
-  const Drive& drive = urban_drive(2);
+  const RadarDrive& drive = urban_radar_drive(2);
   const auto detections = radar_detections(drive, -3.0, sim::RadarOptions::conti_ars408(), 2);
   io::ResultJsonOptions reproducible;
   reproducible.include_timing = false;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "x2car/core/enum_names.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/core/options_check.hpp"
 #include "x2car/io/ins_csv.hpp"
@@ -57,17 +58,13 @@ io::SensorMountings draw_mountings(std::uint64_t seed) {
   return drawn;
 }
 
-const char* to_string(RadarSource source) {
-  switch (source) {
-    case RadarSource::kTarget:
-      return "target";
-    case RadarSource::kGhost:
-      return "ghost";
-    case RadarSource::kClutter:
-      return "clutter";
-  }
-  return "unknown";
-}
+constexpr std::array<EnumName<RadarSource>, 3> kRadarSourceNames{{
+    {RadarSource::kTarget, "target"},
+    {RadarSource::kGhost, "ghost"},
+    {RadarSource::kClutter, "clutter"},
+}};
+
+const char* to_string(RadarSource source) { return enum_to_string(kRadarSourceNames, source); }
 
 void create_folder(const std::filesystem::path& folder) {
   std::error_code error;
