@@ -146,8 +146,9 @@ Extrinsic parse_autoware(std::string_view text, const std::string& source_name,
                      fmt::format("'{}' holds {} child frames ({}); name the one to read",
                                  file.parent, children.size(), join(children)));
   }
-  return autoware_child(file.parent, children.front(), file.children[children.front()],
-                        source_name);
+  // The node itself, not a lookup by its name: a key whose text does not find it again (a null
+  // key reads as "") gave an invalid node, and yaml-cpp threw (fuzz finding).
+  return autoware_child(file.parent, children.front(), file.children.begin()->second, source_name);
 }
 
 std::vector<Extrinsic> parse_autoware_all(std::string_view text, const std::string& source_name) {
