@@ -57,9 +57,12 @@ void check_output_arguments(const OutputArguments& arguments, std::span<const Na
 std::string format_result_summary(const CalibrationResult& result) {
   std::string text;
   if (!result.ok()) {
-    text = fmt::format("{}: insufficient data: {}\n", result.sensor, result.reason);
-    // What could be estimated is still shown (the LiDAR's ground when only its yaw lacks data);
-    // the status stays insufficient_data and nothing is written as a mounting.
+    const char* what = result.status == CalibrationStatus::kUnreliable
+                           ? "unreliable, not a mounting"
+                           : "insufficient data";
+    text = fmt::format("{}: {}: {}\n", result.sensor, what, result.reason);
+    // What could be estimated is still shown (the LiDAR's ground when only its yaw lacks data, the
+    // angles of a fit that failed its checks); nothing is written as a mounting.
     if (!result.roll && !result.pitch && !result.yaw && !result.z) return text;
     text += "  estimated so far (not a complete mounting):\n";
   } else {

@@ -6,9 +6,10 @@
 
 namespace x2car {
 
-constexpr std::array<EnumName<CalibrationStatus>, 2> kCalibrationStatusNames{{
+constexpr std::array<EnumName<CalibrationStatus>, 3> kCalibrationStatusNames{{
     {CalibrationStatus::kOk, "ok"},
     {CalibrationStatus::kInsufficientData, "insufficient_data"},
+    {CalibrationStatus::kUnreliable, "unreliable"},
 }};
 
 const char* to_string(CalibrationStatus status) {
@@ -19,6 +20,8 @@ CalibrationStatus calibration_status_from_string(const std::string& text) {
   return enum_from_string(kCalibrationStatusNames, text, "calibration status");
 }
 
+std::vector<std::string> calibration_status_names() { return enum_names(kCalibrationStatusNames); }
+
 EulerAngles CalibrationResult::angles_or_zero() const {
   return {roll.value_or(0.0), pitch.value_or(0.0), yaw.value_or(0.0)};
 }
@@ -27,6 +30,12 @@ CalibrationResult insufficient_data(std::string sensor, std::string reason) {
   CalibrationResult result;
   result.sensor = std::move(sensor);
   result.status = CalibrationStatus::kInsufficientData;
+  result.reason = std::move(reason);
+  return result;
+}
+
+CalibrationResult mark_unreliable(CalibrationResult result, std::string reason) {
+  result.status = CalibrationStatus::kUnreliable;
   result.reason = std::move(reason);
   return result;
 }

@@ -15,10 +15,14 @@ namespace x2car {
 enum class CalibrationStatus {
   kOk,                // every observable angle was estimated
   kInsufficientData,  // too little usable data; `reason` says what is missing
+  // The method ran but its own checks of the fit failed (residual spread against the sensor's
+  // nominal noise, disagreement between windows, impossible speeds: docs/methods.md, "Checks");
+  // `reason` says which. The angles may be kept for inspection but are not a mounting.
+  kUnreliable,
 };
 
 const char* to_string(CalibrationStatus status);
-// Parses "ok" / "insufficient_data"; throws std::invalid_argument otherwise.
+// Parses "ok" / "insufficient_data" / "unreliable"; throws std::invalid_argument otherwise.
 CalibrationStatus calibration_status_from_string(const std::string& text);
 
 // A per-sample series kept for plots, e.g. track heading and device yaw over time.
@@ -70,5 +74,12 @@ struct CalibrationResult {
 
 // A result that says why it could not be computed.
 CalibrationResult insufficient_data(std::string sensor, std::string reason);
+
+// Marks `result` unreliable with `reason` (the failed check and its figures), keeping its angles
+// and evidence for inspection.
+CalibrationResult mark_unreliable(CalibrationResult result, std::string reason);
+
+// Every status's name, in declaration order: "ok", "insufficient_data", "unreliable".
+std::vector<std::string> calibration_status_names();
 
 }  // namespace x2car

@@ -8,10 +8,12 @@ namespace x2car {
 namespace {
 
 TEST(CalibrationResult, StatusNamesRoundTrip) {
-  for (const auto status : {CalibrationStatus::kOk, CalibrationStatus::kInsufficientData}) {
+  for (const auto status : {CalibrationStatus::kOk, CalibrationStatus::kInsufficientData,
+                            CalibrationStatus::kUnreliable}) {
     EXPECT_EQ(calibration_status_from_string(to_string(status)), status);
   }
   EXPECT_STREQ(to_string(CalibrationStatus::kInsufficientData), "insufficient_data");
+  EXPECT_STREQ(to_string(CalibrationStatus::kUnreliable), "unreliable");
   EXPECT_THROW(calibration_status_from_string("fine"), std::invalid_argument);
 }
 
@@ -32,6 +34,19 @@ TEST(CalibrationResult, UnobservedAnglesAreZeroOnlyWhenAskedFor) {
   EXPECT_EQ(angles.yaw, 0.02);
   EXPECT_EQ(angles.roll, 0.0);
   EXPECT_FALSE(result.roll.has_value());
+}
+
+TEST(CalibrationResult, MarkUnreliableKeepsTheEstimateButIsNotOk) {
+  CalibrationResult result;
+  result.status = CalibrationStatus::kOk;
+  result.yaw = 0.5;
+  result.yaw_std = 0.01;
+  const CalibrationResult marked = mark_unreliable(result, "residual spread 2.1 m/s > 0.5 m/s");
+  EXPECT_FALSE(marked.ok());
+  EXPECT_EQ(marked.status, CalibrationStatus::kUnreliable);
+  EXPECT_EQ(marked.reason, "residual spread 2.1 m/s > 0.5 m/s");
+  ASSERT_TRUE(marked.yaw.has_value());
+  EXPECT_DOUBLE_EQ(*marked.yaw, 0.5);
 }
 
 }  // namespace

@@ -1,5 +1,4 @@
-// Tests of the header-driven generic GNSS/INS CSV reader (the writer's round trip is in
-// novatel_csv_test.cpp).
+// Tests of the header-driven generic GNSS/INS CSV reader and its writer.
 #include "x2car/io/ins_csv.hpp"
 
 #include <fmt/format.h>
@@ -346,6 +345,44 @@ TEST(InsCsvOptions, NamesRoundTripAndUnknownNamesAreRejected) {
   InsCsvOptions options;
   options.angle_unit = static_cast<AngleUnit>(7);
   EXPECT_THROW(options.Check(), std::invalid_argument);
+}
+
+// ---- the writer --------------------------------------------------------------------------------
+
+TEST(InsCsvWriter, OutputReadsBackExactly) {
+  std::vector<InsRecord> records(120);
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const double s = static_cast<double>(i);
+    records[i].time = 0.01 * s;
+    records[i].position_enu = {12.345678 * s - 1e-4, -0.1 / (s + 3), 30.0 + 1e-7 * s};
+    records[i].velocity_enu = {10.0 + 0.001 * s, -2.0 / 3.0, 0.0123 * s};
+    records[i].attitude = {1e-4 * s, -0.03 + 2e-5 * s, 3.1 - 0.06 * s};  // the yaw wraps
+  }
+  const std::string text = format_ins_csv(records);
+  EXPECT_TRUE(text.starts_with("time,x,y,z,vx,vy,vz,roll,pitch,yaw\n"));
+  const std::vector<InsRecord> back = parse_ins_csv(text, "ins.csv");
+  ASSERT_EQ(back.size(), records.size());
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    EXPECT_EQ(back[i].time, records[i].time);
+    EXPECT_EQ(back[i].position_enu, records[i].position_enu);
+    EXPECT_EQ(back[i].velocity_enu, records[i].velocity_enu);
+    EXPECT_EQ(back[i].attitude.roll, records[i].attitude.roll);
+    EXPECT_EQ(back[i].attitude.pitch, records[i].attitude.pitch);
+    EXPECT_EQ(back[i].attitude.yaw, records[i].attitude.yaw);  // ENU, written as is
+  }
+}
+
+TEST(InsCsvErrors, ReaderRejectsBadInput) {
+  const std::string header = "time,x,y,z,vx,vy,vz,roll,pitch,yaw\n";
+  expect_input_error([&] { parse_ins_csv("t,x,y,z,vx,vy,vz,r,p,y\n0,0,0,0,0,0,0,0,0,0\n", "g"); },
+                     "g", 1);
+  expect_input_error([&] { parse_ins_csv(header + "0,0,0,0,0,0,0,0,0\n", "g"); }, "g", 2);
+  expect_input_error([&] { parse_ins_csv(header + "0,0,0,0,0,0,0,0,x,0\n", "g"); }, "g", 2,
+                     "pitch");
+  const InputError error = expect_input_error(
+      [&] { parse_ins_csv(header + "0,0,0,0,0,0,0,0,0,0\n0,0,0,0,0,0,0,0,0,0\n", "g"); }, "g", 3,
+      "time");
+  EXPECT_THAT(error.what(), HasSubstr("1 row(s) repeat"));
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// Tests of the two INS log layouts: the reference novatel_enu.csv and the generic CSV.
+// Tests of the reference GNSS/INS log novatel_enu.csv and its UTC/GPS times.
 #include "x2car/io/novatel_csv.hpp"
 
 #include <gmock/gmock.h>
@@ -221,37 +221,6 @@ TEST(NovatelCsv, WritesAndReadsAFile) {
   write_novatel_enu(path, sample_records(), 1780308000.0);
   EXPECT_EQ(read_novatel_enu(path).records.size(), sample_records().size());
   std::filesystem::remove(path);
-}
-
-// ---- generic CSV -------------------------------------------------------------------------------
-
-TEST(InsCsv, WriterOutputReadsBackExactly) {
-  const std::vector<InsRecord> records = sample_records();
-  const std::string text = format_ins_csv(records);
-  EXPECT_TRUE(text.starts_with("time,x,y,z,vx,vy,vz,roll,pitch,yaw\n"));
-  const std::vector<InsRecord> back = parse_ins_csv(text, "ins.csv");
-  ASSERT_EQ(back.size(), records.size());
-  for (std::size_t i = 0; i < records.size(); ++i) {
-    EXPECT_EQ(back[i].time, records[i].time);
-    EXPECT_EQ(back[i].position_enu, records[i].position_enu);
-    EXPECT_EQ(back[i].velocity_enu, records[i].velocity_enu);
-    EXPECT_EQ(back[i].attitude.roll, records[i].attitude.roll);
-    EXPECT_EQ(back[i].attitude.pitch, records[i].attitude.pitch);
-    EXPECT_EQ(back[i].attitude.yaw, records[i].attitude.yaw);  // ENU, written as is
-  }
-}
-
-TEST(InsCsv, ReaderRejectsBadInput) {
-  const std::string header = "time,x,y,z,vx,vy,vz,roll,pitch,yaw\n";
-  expect_input_error([&] { parse_ins_csv("t,x,y,z,vx,vy,vz,r,p,y\n0,0,0,0,0,0,0,0,0,0\n", "g"); },
-                     "g", 1);
-  expect_input_error([&] { parse_ins_csv(header + "0,0,0,0,0,0,0,0,0\n", "g"); }, "g", 2);
-  expect_input_error([&] { parse_ins_csv(header + "0,0,0,0,0,0,0,0,x,0\n", "g"); }, "g", 2,
-                     "pitch");
-  const InputError error = expect_input_error(
-      [&] { parse_ins_csv(header + "0,0,0,0,0,0,0,0,0,0\n0,0,0,0,0,0,0,0,0,0\n", "g"); }, "g", 3,
-      "time");
-  EXPECT_THAT(error.what(), HasSubstr("1 row(s) repeat"));
 }
 
 }  // namespace

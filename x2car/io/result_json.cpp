@@ -1,6 +1,7 @@
 #include "x2car/io/result_json.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <cmath>
 #include <cstdint>
@@ -162,7 +163,8 @@ CalibrationStatus status_from_json(const Json& object, const JsonContext& contex
     return calibration_status_from_string(text);
   } catch (const std::invalid_argument&) {
     throw InputError(context.source, 0, context.field("status"),
-                     fmt::format("unknown status '{}'; expected ok or insufficient_data", text));
+                     fmt::format("unknown status '{}'; expected one of {}", text,
+                                 fmt::join(calibration_status_names(), ", ")));
   }
 }
 

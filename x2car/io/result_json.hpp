@@ -1,5 +1,5 @@
 // CalibrationResult <-> JSON in the shape of DESIGN §6:
-//   {"sensor", "status": "ok" | "insufficient_data", "reason", "method",
+//   {"sensor", "status": "ok" | "insufficient_data" | "unreliable", "reason", "method",
 //    "roll_deg", "pitch_deg", "yaw_deg", ["x_m", "y_m",] "z_m",
 //    "std_deg": {"roll", "pitch", "yaw"}, "std_m": {"z"}, "support": {...}, "rejections": {...},
 //    "diagnostics": {name_with_unit: number}, "seconds", "series": [{"name", "unit", "time": [...],

@@ -72,16 +72,16 @@ void expect_issue_accuracy(const sim::RadarOptions& radar, const RadarCalibratio
   }
 }
 
-TEST(RadarVelocityMethod, ContiMeetsATenthOfADegree) {
+TEST(RadarCalibration, VelocityContiMeetsATenthOfADegree) {
   expect_issue_accuracy(sim::RadarOptions::conti_ars408(), with_lever_arm());
 }
 
-TEST(RadarVelocityMethod, DelphiMeetsATenthOfADegree) {
+TEST(RadarCalibration, VelocityDelphiMeetsATenthOfADegree) {
   expect_issue_accuracy(sim::RadarOptions::delphi_esr(), with_lever_arm());
 }
 
 // Without the lever arm, turns are gated out by the yaw rate.
-TEST(RadarVelocityMethod, WithoutLeverArmTurnsAreGatedOut) {
+TEST(RadarCalibration, VelocityWithoutLeverArmTurnsAreGatedOut) {
   for (std::uint64_t seed = 1; seed <= 3; ++seed) {
     SCOPED_TRACE(::testing::Message() << "seed " << seed);
     EXPECT_LE(
@@ -91,7 +91,7 @@ TEST(RadarVelocityMethod, WithoutLeverArmTurnsAreGatedOut) {
 }
 
 // The coarse search finds psi 30 deg away from the initial guess 0.
-TEST(RadarVelocityMethod, CoarseSearchRecoversThirtyDegrees) {
+TEST(RadarCalibration, VelocityCoarseSearchRecoversThirtyDegrees) {
   const RadarDrive& drive = urban_radar_drive(2);
   const auto detections = radar_detections(drive, 30.0, sim::RadarOptions::conti_ars408(), 2);
   const CalibrationResult result =
@@ -103,7 +103,7 @@ TEST(RadarVelocityMethod, CoarseSearchRecoversThirtyDegrees) {
 
 // Sign: a radar yawed +10 deg (boresight turned left) reports +10, and a static target ahead-left
 // while driving forward approaches (negative range rate) as the header states.
-TEST(RadarVelocityMethod, SignConvention) {
+TEST(RadarCalibration, VelocitySignConvention) {
   RadarSample sample;
   sample.azimuth = rad_from_deg(20.0);
   sample.radar_velocity_in_vehicle = {10.0, 0.0};
