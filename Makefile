@@ -6,7 +6,7 @@ MAKEFLAGS += --no-print-directory
 BUILD_DIR := build/$(PRESET)
 X2CAR := $(BUILD_DIR)/apps/x2car/x2car
 
-.PHONY: all setup configure build test demo bench format format-check clean
+.PHONY: all setup configure build test demo bench coverage format format-check clean
 
 all: build
 
@@ -30,6 +30,12 @@ bench: setup
 	@cmake --preset $(PRESET) -DX2CAR_BUILD_BENCH=ON >/dev/null
 	@cmake --build --preset $(PRESET)
 	@scripts/bench $(BUILD_DIR)
+
+# The standard errors' coverage checks (bench/coverage.hpp): many simulated runs per sensor.
+coverage: setup
+	@cmake --preset $(PRESET) -DX2CAR_BUILD_BENCH=ON >/dev/null
+	@cmake --build --preset $(PRESET)
+	@scripts/coverage $(BUILD_DIR)
 
 format:
 	@git ls-files '*.cpp' '*.hpp' | xargs clang-format -i
