@@ -1,5 +1,5 @@
 # The two commands a newcomer needs: `make demo` and `make test`. PRESET picks the CMake preset
-# (release, relwithdebinfo, debug, asan; optimised builds as a packager does, -O3, no tests);
+# (release, relwithdebinfo, debug, asan (-O1, sanitizers); optimised builds as a packager does, -O3, no tests);
 # `make test PRESET=asan` runs the tests under the sanitizers.
 PRESET ?= release
 MAKEFLAGS += --no-print-directory
