@@ -12,7 +12,8 @@ enum class SampleState { kValid, kExcluded, kSlow, kCurved };
 
 SampleState classify(double speed, double curvature, const SegmentationOptions& options) {
   if (!(std::isfinite(speed) && speed >= options.min_speed)) return SampleState::kSlow;
-  if (!(std::isfinite(curvature) && std::abs(curvature) <= options.max_abs_curvature)) {
+  if (!(std::isfinite(curvature) && std::abs(curvature) <= options.max_abs_curvature &&
+        speed * speed * std::abs(curvature) <= options.max_abs_lateral_acceleration)) {
     return SampleState::kCurved;
   }
   return SampleState::kValid;
@@ -41,6 +42,8 @@ void SegmentationOptions::Check() const {
   const OptionsCheck check("SegmentationOptions");
   check.non_negative("min_speed", min_speed);
   check.positive("max_abs_curvature", max_abs_curvature);
+  check.that(max_abs_lateral_acceleration > 0.0, "max_abs_lateral_acceleration",
+             "must be > 0 (infinite: no limit)", max_abs_lateral_acceleration);
   check.non_negative("min_duration_s", min_duration_s);
   check.positive("max_gap_s", max_gap_s);
   check.non_negative("end_trim_s", end_trim_s);

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -96,6 +97,29 @@ TEST(Segmentation, ExcludedSamplesBreakRunsAndAreCountedFirst) {
   const std::vector<std::uint8_t> wrong_size(3, 0);
   EXPECT_THROW(segment_runs(track.times, track.speeds, track.curvatures, {}, wrong_size),
                std::invalid_argument);
+}
+
+// The turn at 20-24 s (kappa 0.05 1/m at 10 m/s: 5 m/s^2) stays out under a lateral-acceleration
+// gate of 2 m/s^2 with a loose curvature bound; at 5 m/s (1.25 m/s^2) it is kept.
+TEST(Segmentation, LateralAccelerationGatesTurnsByHowHardTheyAre) {
+  ConstructedTrack track = make_track();
+  const SegmentationOptions turns{.max_abs_curvature = 0.2,
+                                  .max_abs_lateral_acceleration = 2.0,
+                                  .min_duration_s = 5.0};
+  Segmentation fast = segment_runs(track.times, track.speeds, track.curvatures, turns);
+  EXPECT_EQ(fast.rejections.curved, 40);
+  ASSERT_EQ(fast.segments.size(), 3u);
+  for (std::size_t i = 0; i < track.times.size(); ++i) {
+    if (track.times[i] >= 5.0) track.speeds[i] = std::min(track.speeds[i], 5.0);
+  }
+  const Segmentation slow = segment_runs(track.times, track.speeds, track.curvatures, turns);
+  EXPECT_EQ(slow.rejections.curved, 0);
+  ASSERT_EQ(slow.segments.size(), 3u);  // 5-27 s in one run now, then 29-40 s and 42-60 s
+  EXPECT_NEAR(slow.segments[0].start_time, 5.0, 1e-9);
+  EXPECT_NEAR(slow.segments[0].end_time, 26.9, 1e-9);
+  SegmentationOptions bad = turns;
+  bad.max_abs_lateral_acceleration = 0.0;
+  EXPECT_THROW(bad.Check(), std::invalid_argument);
 }
 
 TEST(Segmentation, RejectsBadArguments) {

@@ -3,9 +3,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
+#include "x2car/core/enum_names.hpp"
 #include "x2car/core/options_check.hpp"
 #include "x2car/core/rotation.hpp"
 #include "x2car/core/track_heading.hpp"
@@ -191,11 +193,11 @@ std::vector<Eigen::Vector3d> smooth_pieces(const SensorTrack& sensor_track,
   return velocities;
 }
 
-// The turn gate's curvature [1/m], per piece (the yaw-rate spline must not span a gap either).
-std::vector<double> gate_curvatures(const TrackAlignment& alignment,
-                                    std::span<const std::uint8_t> in_short_piece,
-                                    const TrackAlignmentOptions& options) {
-  if (options.turn_gate == TurnGate::kTrackCurvature) return alignment.track.curvature;
+// The sensor's yaw rate over its speed [1/m], per piece (the yaw-rate spline must not span a gap
+// either); NaN in the short pieces.
+std::vector<double> yaw_rate_curvatures(const TrackAlignment& alignment,
+                                        std::span<const std::uint8_t> in_short_piece,
+                                        const TrackAlignmentOptions& options) {
   std::vector<double> curvature(alignment.track.time.size(), std::nan(""));
   for (const Piece& piece : split_at_gaps(alignment.track.time, options.split_gap_s)) {
     if (in_short_piece[piece.begin]) continue;
@@ -208,6 +210,93 @@ std::vector<double> gate_curvatures(const TrackAlignment& alignment,
     std::copy(piece_curvature.begin(), piece_curvature.end(), curvature.begin() + piece.begin);
   }
   return curvature;
+}
+
+// The gates with turns used: the lateral acceleration instead of the paper's curvature limit.
+SegmentationOptions turn_segmentation(const TrackAlignmentOptions& options) {
+  SegmentationOptions segments = options.segments;
+  segments.max_abs_curvature = options.turns.max_abs_curvature;
+  segments.max_abs_lateral_acceleration = options.turns.max_lateral_acceleration;
+  segments.end_trim_s = options.turns.end_trim_s;
+  return segments;
+}
+
+double total_duration(const Segmentation& segmentation) {
+  double duration = 0.0;
+  for (const TimeSegment& segment : segmentation.segments) duration += segment.duration();
+  return duration;
+}
+
+// Why a fitted lever arm cannot be used, or nothing.
+std::optional<std::string> lever_arm_rejection(const LeverArmFit& fit, const TurnOptions& turns) {
+  if (!std::isfinite(fit.lever_arm_x_std) || fit.curvature_spread < turns.min_curvature_spread) {
+    return fmt::format(
+        "the curvature varies too little over the valid samples to fit the lever arm (standard "
+        "deviation {:.4f} 1/m, need {:g})",
+        fit.curvature_spread, turns.min_curvature_spread);
+  }
+  if (std::abs(fit.lever_arm_x) > turns.max_abs_lever_arm_x) {
+    return fmt::format("the fitted lever arm x = {:.2f} m is beyond +-{:g} m", fit.lever_arm_x,
+                       turns.max_abs_lever_arm_x);
+  }
+  const double yaw_std = std::abs(fit.mean_curvature) * fit.lever_arm_x_std;
+  if (yaw_std > turns.max_lever_arm_yaw_std) {
+    return fmt::format(
+        "the lever arm (x = {:.2f} +- {:.2f} m) leaves {:.3f} deg of uncertainty in the yaw "
+        "(more than {:g} deg): the turns go mostly one way",
+        fit.lever_arm_x, fit.lever_arm_x_std, deg_from_rad(yaw_std),
+        deg_from_rad(turns.max_lever_arm_yaw_std));
+  }
+  return std::nullopt;
+}
+
+// Chooses the valid samples and the lever arm (see the header): with turns used, the gates on
+// lateral acceleration and the given or fitted lever arm; else, or when the fitted one cannot be
+// used, the paper's gates. Adds the lever arm's shift to both per-sample yaws.
+void segment_and_correct(const TrackAlignmentOptions& options,
+                         std::span<const std::uint8_t> excluded, TrackAlignment& alignment) {
+  const TurnOptions& turns = options.turns;
+  const auto segment_with = [&](const SegmentationOptions& segments) {
+    return segment_runs(alignment.track.time, alignment.track.speed, alignment.gate_curvature,
+                        segments, excluded);
+  };
+  alignment.turns_used = turns.samples == TurnSamples::kUse;
+  alignment.lever_arm_x = turns.lever_arm ? turns.lever_arm->x() : 0.0;
+  alignment.segmentation =
+      segment_with(alignment.turns_used ? turn_segmentation(options) : options.segments);
+  if (alignment.turns_used && !turns.lever_arm &&
+      total_duration(alignment.segmentation) >= options.min_valid_duration_s) {
+    // The device's velocity is the cleanest measure of the sensor's lateral velocity; without it
+    // the track's heading carries the same information.
+    const std::vector<double>& offsets =
+        alignment.velocity_from_sensor ? alignment.velocity_yaw : alignment.heading_offset;
+    alignment.lever_arm_fit = fit_lever_arm_x(offsets,
+                                              alignment.yaw_rate_curvature,
+                                              alignment.segmentation, turns.fit);
+    alignment.lever_arm_rejected = lever_arm_rejection(*alignment.lever_arm_fit, turns);
+    if (alignment.lever_arm_rejected) {
+      alignment.turns_used = false;
+      alignment.segmentation = segment_with(options.segments);
+    } else {
+      alignment.lever_arm_x = alignment.lever_arm_fit->lever_arm_x;
+    }
+  }
+  alignment.lever_arm_shift =
+      lever_arm_heading_shift(alignment.yaw_rate_curvature, alignment.lever_arm_x);
+  for (std::size_t i = 0; i < alignment.lever_arm_shift.size(); ++i) {
+    const double shift = alignment.lever_arm_shift[i];
+    if (!std::isfinite(shift)) continue;  // short pieces: never in a segment
+    alignment.heading_offset[i] = wrap_angle(alignment.heading_offset[i] + shift);
+    alignment.velocity_yaw[i] = wrap_angle(alignment.velocity_yaw[i] + shift);
+  }
+}
+
+// The fitted lever arm's uncertainty passes into the yaw through the mean curvature of the samples.
+void add_lever_arm_uncertainty(const TrackAlignment& alignment, SegmentAverage& yaw) {
+  if (!alignment.turns_used || !alignment.lever_arm_fit) return;
+  const LeverArmFit& fit = *alignment.lever_arm_fit;
+  yaw.standard_error =
+      std::hypot(yaw.standard_error, fit.mean_curvature * fit.lever_arm_x_std);
 }
 
 // Least-squares slope of the inlier pitches on the acceleration; 0 when the acceleration hardly
@@ -238,23 +327,55 @@ double fit_pitch_per_acceleration(std::span<const double> pitches,
 std::string describe_shortage(const TrackAlignment& alignment,
                               const TrackAlignmentOptions& options) {
   const SegmentationRejections& r = alignment.segmentation.rejections;
+  const std::string turn_gate =
+      alignment.turns_used
+          ? fmt::format("lateral acceleration <= {:g} m/s^2",
+                        options.turns.max_lateral_acceleration)
+          : fmt::format("|curvature| <= {:g} 1/m", options.segments.max_abs_curvature);
   return fmt::format(
-      "only {:.1f} s of usable driving (faster than {:g} m/s, |curvature| <= {:g} 1/m, in runs "
-      "of at least {:g} s); need {:g} s. Of {} samples: {} too slow, {} in turns, {} reversing, "
-      "{} in runs too short, {} trimmed at run ends, {} in {} pieces between time gaps too short "
-      "to "
-      "smooth",
-      alignment.valid_duration_s, options.segments.min_speed, options.segments.max_abs_curvature,
+      "only {:.1f} s of usable driving (faster than {:g} m/s, {}, in runs of at least {:g} s); "
+      "need {:g} s. Of {} samples: {} too slow, {} in turns, {} reversing, {} in runs too short, "
+      "{} trimmed at run ends, {} in {} pieces between time gaps too short to smooth{}",
+      alignment.valid_duration_s, options.segments.min_speed, turn_gate,
       options.segments.min_duration_s, options.min_valid_duration_s, alignment.track.time.size(),
       r.slow, r.curved, alignment.reversing_samples, r.short_run, r.trimmed,
-      alignment.in_short_pieces, alignment.short_pieces);
+      alignment.in_short_pieces, alignment.short_pieces,
+      alignment.lever_arm_rejected
+          ? "; turns not used: " + *alignment.lever_arm_rejected
+          : std::string());
 }
 
+constexpr std::array<EnumName<TurnSamples>, 2> kTurnSamplesNames{{
+    {TurnSamples::kUse, "use"},
+    {TurnSamples::kExclude, "exclude"},
+}};
+
 }  // namespace
+
+std::string to_string(TurnSamples turns) { return enum_to_string(kTurnSamplesNames, turns); }
+
+TurnSamples turn_samples_from_string(std::string_view name) {
+  return enum_from_string(kTurnSamplesNames, name, "turn samples");
+}
+
+std::vector<std::string> turn_samples_names() { return enum_names(kTurnSamplesNames); }
+
+void TurnOptions::Check() const {
+  fit.Check();
+  const OptionsCheck check("TurnOptions");
+  check.positive("max_lateral_acceleration", max_lateral_acceleration);
+  check.positive("max_abs_curvature", max_abs_curvature);
+  check.non_negative("end_trim_s", end_trim_s);
+  check.that(!lever_arm || lever_arm->allFinite(), "lever_arm", "must be finite");
+  check.non_negative("min_curvature_spread", min_curvature_spread);
+  check.positive("max_abs_lever_arm_x", max_abs_lever_arm_x);
+  check.positive("max_lever_arm_yaw_std", max_lever_arm_yaw_std);
+}
 
 void TrackAlignmentOptions::Check() const {
   track.Check();
   segments.Check();
+  turns.Check();
   average.Check();
   const OptionsCheck check("TrackAlignmentOptions");
   check.non_negative("min_valid_duration_s", min_valid_duration_s);
@@ -294,9 +415,11 @@ TrackAlignment align_track(const SensorTrack& sensor_track, const TrackAlignment
       ++alignment.without_direction;
     }
   }
-  alignment.gate_curvature = gate_curvatures(alignment, in_short_piece, options);
-  alignment.segmentation = segment_runs(alignment.track.time, alignment.track.speed,
-                                        alignment.gate_curvature, options.segments, excluded);
+  alignment.yaw_rate_curvature = yaw_rate_curvatures(alignment, in_short_piece, options);
+  alignment.gate_curvature = options.turn_gate == TurnGate::kTrackCurvature
+                                 ? alignment.track.curvature
+                                 : alignment.yaw_rate_curvature;
+  segment_and_correct(options, excluded, alignment);
   for (const TimeSegment& segment : alignment.segmentation.segments) {
     alignment.valid_duration_s += segment.duration();
   }
@@ -309,6 +432,8 @@ TrackAlignment align_track(const SensorTrack& sensor_track, const TrackAlignment
                                     alignment.segmentation, options.average);
   alignment.velocity_yaw_estimate = average_over_segments(
       alignment.track.time, alignment.velocity_yaw, alignment.segmentation, options.average);
+  add_lever_arm_uncertainty(alignment, *alignment.yaw);
+  add_lever_arm_uncertainty(alignment, *alignment.velocity_yaw_estimate);
   alignment.velocity_pitch_estimate = average_over_segments(
       alignment.track.time, alignment.velocity_pitch, alignment.segmentation, options.average);
   if (options.remove_body_pitch) {

@@ -15,6 +15,13 @@
 // the ZYX yaw and pitch of vehicle_from_sensor. Roll would need the car's own roll in the world
 // (crossfall, body roll), which nothing here observes.
 //
+// Turns (beyond the paper; core/turn_geometry.hpp): by default the samples in turns are kept where
+// the lateral acceleration is low (sideslip small), and the sensor's lever arm ahead of the rear
+// axle, which turns its track by beta = asin(kappa r_x) against the car's, is added back: the given
+// one, or r_x fitted jointly with the yaw. When r_x cannot be identified (the curvature hardly
+// varies, or the fit gives a lever arm no car has), the paper's straight-only gates are used.
+// TurnSamples::kExclude keeps the paper's method (with a given lever arm still corrected for).
+//
 // Samples where the car reverses are found as those whose offset is more than 90 deg from the
 // circular mean offset of all moving samples, and excluded.
 //
@@ -29,11 +36,14 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "x2car/core/planar_track.hpp"
+#include "x2car/core/rotation.hpp"
 #include "x2car/core/segment_average.hpp"
 #include "x2car/core/segmentation.hpp"
+#include "x2car/core/turn_geometry.hpp"
 
 namespace x2car {
 
@@ -55,6 +65,49 @@ enum class TurnGate {
   kTrackCurvature,  // the paper's: the curvature of the smoothed track
 };
 
+// Whether the samples in turns are used.
+enum class TurnSamples {
+  kUse,      // kept up to TurnOptions::max_lateral_acceleration, corrected for the lever arm
+  kExclude,  // the paper's: only |curvature| <= segments.max_abs_curvature
+};
+
+std::string to_string(TurnSamples turns);  // "use", "exclude"
+// Inverse of to_string; throws std::invalid_argument listing the valid names.
+TurnSamples turn_samples_from_string(std::string_view name);
+std::vector<std::string> turn_samples_names();
+
+struct TurnOptions {
+  TurnSamples samples = TurnSamples::kUse;
+  // [m/s^2] samples turning with a larger lateral acceleration (speed x yaw rate) are not used.
+  // A car's tyres slip sideways in proportion to it: at the rear axle about 0.2-0.5 deg per m/s^2
+  // (the rear axle's load over its cornering stiffness), which the lever-arm model leaves out. At
+  // <= 2 m/s^2 that is <= ~1 deg in a single sample, of opposite sign in left and right turns, and
+  // it is what ordinary urban turns at 15-25 km/h reach (a 20 m radius at 6 m/s: 1.8 m/s^2).
+  double max_lateral_acceleration = 2.0;
+  // [1/m] a sanity bound: sharper than a 5 m radius is a manoeuvre, not a road.
+  double max_abs_curvature = 0.2;
+  // [s] trimmed off each end of a run. The paper's 1 s (segments.end_trim_s) is where a turn fades
+  // in or out; with turns used the runs end where the car slows below min_speed or the lateral
+  // acceleration passes the gate, where the heading needs no margin.
+  double end_trim_s = 0.0;
+  // The sensor's position in the vehicle frame [m] (x forward of the rear axle); only x is used.
+  // Unset: x is estimated from the turns.
+  std::optional<Eigen::Vector3d> lever_arm;
+  LeverArmFitOptions fit;
+  // The estimated lever arm is used only when the curvature's standard deviation over the valid
+  // samples is at least min_curvature_spread [1/m] (on a circle, or on a highway's gentle curves,
+  // the turns cannot separate x from the yaw, and add little the paper's gates do not keep) ...
+  double min_curvature_spread = 0.005;
+  // ... when |x| <= max_abs_lever_arm_x [m] (a larger one means
+  // the model does not hold: sideslip, velocities in another frame) ...
+  double max_abs_lever_arm_x = 6.0;
+  // ... and when the yaw's uncertainty from it, |mean curvature| x SE(x), is at most this [rad]:
+  // on a drive that turns mostly one way (a circle) the yaw and x cannot be told apart.
+  double max_lever_arm_yaw_std = rad_from_deg(0.02);
+
+  void Check() const;
+};
+
 struct TrackAlignmentOptions {
   PlanarTrackOptions track;  // x(t), y(t) smoother; z(t) and the heading use the same options
   TurnGate turn_gate = TurnGate::kSensorYawRate;
@@ -65,6 +118,8 @@ struct TrackAlignmentOptions {
                                .min_duration_s = 5.0,
                                .max_gap_s = 0.5,
                                .end_trim_s = 1.0};
+  // Samples in turns: used (default) or excluded (the paper's gates above).
+  TurnOptions turns;
   SegmentAverageOptions average;
   // A car's body pitches on its suspension when it speeds up or brakes, so the velocity leaves its
   // x axis by an angle proportional to the longitudinal acceleration. When set, the per-sample
@@ -88,9 +143,15 @@ struct TrackAlignment {
   // Per sample (all samples of the input, in order).
   PlanarTrackSamples track;                       // smoothed track: speed, heading_enu, curvature
   std::vector<double> gate_curvature;             // what the turn gate tested [1/m]
+  std::vector<double> yaw_rate_curvature;         // the sensor's yaw rate over its speed [1/m]
   std::vector<double> sensor_heading;             // ZYX yaw of world_from_sensor [rad]
-  std::vector<double> heading_offset;             // wrap(sensor_heading - track heading) [rad]
-  std::vector<double> velocity_yaw;               // per-sample yaw of the velocity method [rad]
+  // wrap(sensor_heading - track heading + lever_arm_shift) [rad]
+  std::vector<double> heading_offset;
+  // Per-sample yaw of the velocity method, + lever_arm_shift [rad].
+  std::vector<double> velocity_yaw;
+  // beta = asin(yaw_rate_curvature * lever_arm_x), added to both yaws [rad]; all 0 without a lever
+  // arm.
+  std::vector<double> lever_arm_shift;
   std::vector<double> velocity_pitch;             // per-sample pitch of the velocity method [rad]
   std::vector<double> longitudinal_acceleration;  // of the smoothed track [m/s^2]
   // Fitted body pitch per longitudinal acceleration, removed from velocity_pitch_estimate
@@ -101,6 +162,14 @@ struct TrackAlignment {
   // Samples not reversing but with a zero or vertical velocity (no direction to compare with).
   std::int64_t without_direction = 0;
   bool velocity_from_sensor = false;  // the input's velocities were used (else the spline's)
+
+  // Turns: whether their samples were used, the lever arm x [m] the yaws were corrected for, and
+  // the fit when it was estimated (its standard error is added to the yaws').
+  bool turns_used = false;
+  double lever_arm_x = 0.0;
+  std::optional<LeverArmFit> lever_arm_fit;
+  // Set when the lever arm was fitted but could not be used (turns then excluded): why.
+  std::optional<std::string> lever_arm_rejected;
 
   // The pieces between time gaps longer than split_gap_s: smoothed, and left out for being shorter
   // than segments.min_duration_s or having too few samples for the spline. The samples of the

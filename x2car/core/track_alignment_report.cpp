@@ -1,9 +1,22 @@
 #include "x2car/core/track_alignment_report.hpp"
 
+#include <cmath>
 #include <utility>
 
 namespace x2car {
 namespace {
+
+// Whether the samples in turns were used, and the lever arm the yaws were corrected for.
+void write_turns(const TrackAlignment& alignment, CalibrationResult& result) {
+  result.diagnostics["turns_used"] = alignment.turns_used ? 1.0 : 0.0;
+  result.diagnostics["lever_arm_x_m"] = alignment.lever_arm_x;
+  if (!alignment.lever_arm_fit) return;
+  result.diagnostics["lever_arm_estimated"] = alignment.lever_arm_rejected ? 0.0 : 1.0;
+  result.diagnostics["fitted_lever_arm_x_m"] = alignment.lever_arm_fit->lever_arm_x;
+  if (std::isfinite(alignment.lever_arm_fit->lever_arm_x_std)) {
+    result.diagnostics["fitted_lever_arm_x_std_m"] = alignment.lever_arm_fit->lever_arm_x_std;
+  }
+}
 
 void write_counts(const TrackAlignment& alignment, CalibrationResult& result) {
   const SegmentationRejections& r = alignment.segmentation.rejections;
@@ -17,6 +30,7 @@ void write_counts(const TrackAlignment& alignment, CalibrationResult& result) {
   result.rejections["short_run"] = r.short_run;
   result.rejections["trimmed"] = r.trimmed;
   result.diagnostics["valid_duration_s"] = alignment.valid_duration_s;
+  write_turns(alignment, result);
   if (alignment.yaw) {
     result.support["valid_samples"] =
         static_cast<std::int64_t>(alignment.segmentation.sample_count());

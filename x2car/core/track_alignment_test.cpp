@@ -57,7 +57,11 @@ TEST(TrackAlignment, RecoversYawAndPitchOfALevelCarOnAWindingRoad) {
     EXPECT_THAT(alignment.yaw->value, AngleNearDeg(kMounting.yaw, 0.002));
     EXPECT_THAT(alignment.velocity_yaw_estimate->value, AngleNearDeg(kMounting.yaw, 0.002));
     EXPECT_THAT(alignment.velocity_pitch_estimate->value, AngleNearDeg(kMounting.pitch, 0.002));
-    EXPECT_NEAR(alignment.valid_duration_s, 120.0 - 2 * 1.0, 0.05);  // trimmed 1 s at both ends
+    // So gentle a road cannot separate a lever arm from the yaw (the curvature hardly varies): the
+    // paper's gates are used, which trim 1 s at both ends.
+    EXPECT_FALSE(alignment.turns_used);
+    EXPECT_TRUE(alignment.lever_arm_rejected);
+    EXPECT_NEAR(alignment.valid_duration_s, 120.0 - 2 * 1.0, 0.05);
   }
 }
 
@@ -128,7 +132,9 @@ TEST(TrackAlignment, ATimeGapSplitsTheTrackAndEachPieceIsSmoothedAlone) {
   // would need 2e6 (or 3.4e9) knot intervals. Each piece alone needs 120.
   for (const double jump_s : {1e6, 1.7e9}) {
     SCOPED_TRACE(jump_s);
-    const TrackAlignment alignment = align_track(with_time_jump(track, 60.0, jump_s));
+    TrackAlignmentOptions paper;  // whose runs are trimmed at their ends
+    paper.turns.samples = TurnSamples::kExclude;
+    const TrackAlignment alignment = align_track(with_time_jump(track, 60.0, jump_s), paper);
     ASSERT_FALSE(alignment.insufficient_reason) << *alignment.insufficient_reason;
     EXPECT_EQ(alignment.pieces, 2);
     EXPECT_EQ(alignment.short_pieces, 0);
@@ -183,6 +189,126 @@ TEST(TrackAlignment, RejectsMalformedTracks) {
   SensorTrack repeated = track;
   repeated.time[5] = repeated.time[4];
   EXPECT_THROW(align_track(repeated), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace x2car
+
+namespace x2car {
+namespace {
+
+// A level car at a constant 6 m/s: 4 s straight, a 90-degree left turn at a constant yaw rate
+// on a 25 m radius (1.44 m/s^2), 4 s straight, the same turn to the right, and so on for 63 s,
+// sampled at 100 Hz. The sensor sits at `lever_arm` [m] in the vehicle frame (x ahead of the rear
+// axle), so its track and velocity in the turns are the rear axle's turned by asin(r_x / 25 m).
+// `all_left`: every turn to the left (a drive round the block).
+SensorTrack city_blocks(const EulerAngles& mounting, const Eigen::Vector3d& lever_arm,
+                        bool all_left = false) {
+  constexpr double kSpeed = 6.0, kRadius = 25.0, kStraight = 4.0;
+  const double turn_s = kPi / 2.0 * kRadius / kSpeed;
+  const double cycle = 2.0 * (kStraight + turn_s);
+  const auto yaw_rate = [&](double t) {
+    const double phase = std::fmod(t, cycle);
+    if (phase < kStraight) return 0.0;
+    if (phase < kStraight + turn_s) return kSpeed / kRadius;
+    if (phase < 2.0 * kStraight + turn_s) return 0.0;
+    return (all_left ? 1.0 : -1.0) * kSpeed / kRadius;
+  };
+  const Eigen::Matrix3d vehicle_from_sensor = rotation_from_euler(mounting);
+  SensorTrack track;
+  Eigen::Vector3d rear_axle = Eigen::Vector3d::Zero();
+  double heading = 0.4;
+  const double dt = 0.001;
+  for (int step = 0; step <= 63000; ++step) {
+    const double t = step * dt;
+    if (step % 10 == 0) {
+      const Eigen::Matrix3d world_from_vehicle = rotation_from_euler({0.0, 0.0, heading});
+      const Eigen::Vector3d omega(0.0, 0.0, yaw_rate(t));
+      track.time.push_back(t);
+      track.position_enu.push_back(rear_axle + world_from_vehicle * lever_arm);
+      track.world_from_sensor.push_back(world_from_vehicle * vehicle_from_sensor);
+      track.velocity_enu.push_back(
+          world_from_vehicle * (Eigen::Vector3d(kSpeed, 0.0, 0.0) + omega.cross(lever_arm)));
+    }
+    const double mid_heading = heading + 0.5 * dt * yaw_rate(t);
+    rear_axle += kSpeed * dt * Eigen::Vector3d(std::cos(mid_heading), std::sin(mid_heading), 0.0);
+    heading += dt * yaw_rate(t + 0.5 * dt);
+  }
+  return track;
+}
+
+const Eigen::Vector3d kLeverArm{1.5, 0.3, 1.2};
+
+// Issue 12: with straights of 4 s between turns, the paper's gates (|curvature| <= 0.01 1/m, runs
+// of 5 s after 1 s is trimmed at each end) find no usable driving; using the turns with the fitted
+// lever arm recovers the yaw within 0.1 deg (measured: within 0.01 deg) and the lever arm.
+TEST(TrackAlignment, TurnsWithALeverArmGiveTheYawTheStraightsAlonePassUp) {
+  const SensorTrack track = city_blocks(kMounting, kLeverArm);
+  TrackAlignmentOptions paper;
+  paper.turns.samples = TurnSamples::kExclude;
+  const TrackAlignment straights_only = align_track(track, paper);
+  ASSERT_TRUE(straights_only.insufficient_reason);
+  EXPECT_NE(straights_only.insufficient_reason->find("only 0.0 s"), std::string::npos)
+      << *straights_only.insufficient_reason;
+
+  const TrackAlignment turns = align_track(track);
+  ASSERT_FALSE(turns.insufficient_reason) << *turns.insufficient_reason;
+  EXPECT_TRUE(turns.turns_used);
+  EXPECT_GT(turns.valid_duration_s, 60.0);
+  ASSERT_TRUE(turns.lever_arm_fit);
+  EXPECT_NEAR(turns.lever_arm_x, kLeverArm.x(), 0.05);
+  EXPECT_THAT(turns.yaw->value, AngleNearDeg(kMounting.yaw, 0.1));
+  EXPECT_THAT(turns.velocity_yaw_estimate->value, AngleNearDeg(kMounting.yaw, 0.1));
+  EXPECT_THAT(turns.velocity_pitch_estimate->value, AngleNearDeg(kMounting.pitch, 0.1));
+  // The uncorrected turns are off by asin(1.5 / 25) = 3.4 deg: without the lever arm the yaws of
+  // the left and right turns would spread the segments by degrees.
+  EXPECT_LT(turns.yaw->standard_error, rad_from_deg(0.05));
+
+  // A given lever arm is used as it is.
+  TrackAlignmentOptions given;
+  given.turns.lever_arm = kLeverArm;
+  const TrackAlignment known = align_track(track, given);
+  ASSERT_TRUE(known.yaw);
+  EXPECT_FALSE(known.lever_arm_fit);
+  EXPECT_EQ(known.lever_arm_x, kLeverArm.x());
+  EXPECT_THAT(known.yaw->value, AngleNearDeg(kMounting.yaw, 0.1));
+  EXPECT_THAT(known.velocity_yaw_estimate->value, AngleNearDeg(kMounting.yaw, 0.1));
+}
+
+// Round the block (every turn to the left): the straights between the turns still tell the yaw
+// from the lever arm, so both are found.
+TEST(TrackAlignment, TurnsAllOneWayStillIdentifyTheLeverArmFromTheStraights) {
+  const TrackAlignment alignment = align_track(city_blocks(kMounting, kLeverArm, true));
+  ASSERT_FALSE(alignment.insufficient_reason) << *alignment.insufficient_reason;
+  EXPECT_TRUE(alignment.turns_used);
+  EXPECT_NEAR(alignment.lever_arm_x, kLeverArm.x(), 0.05);
+  EXPECT_THAT(alignment.velocity_yaw_estimate->value, AngleNearDeg(kMounting.yaw, 0.1));
+  EXPECT_THAT(alignment.yaw->value, AngleNearDeg(kMounting.yaw, 0.1));
+}
+
+// On a circle the yaw and the lever arm cannot be told apart: the turns are not used and the
+// reason says why. Slow enough (6 m/s on 25 m) to pass the lateral-acceleration gate.
+TEST(TrackAlignment, ACircleLeavesTheLeverArmUnidentifiedAndTheTurnsUnused) {
+  const auto heading = [](double t) { return 6.0 * t / 25.0; };
+  const auto speed = [](double) { return 6.0; };
+  const TrackAlignment alignment = align_track(drive(40.0, heading, speed, kMounting, true));
+  ASSERT_TRUE(alignment.insufficient_reason);
+  EXPECT_FALSE(alignment.turns_used);
+  ASSERT_TRUE(alignment.lever_arm_rejected);
+  EXPECT_NE(alignment.insufficient_reason->find("turns not used"), std::string::npos)
+      << *alignment.insufficient_reason;
+}
+
+TEST(TrackAlignment, TurnOptionsAreChecked) {
+  TrackAlignmentOptions options;
+  options.turns.max_lateral_acceleration = 0.0;
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+  options = {};
+  options.turns.lever_arm = Eigen::Vector3d(std::nan(""), 0.0, 0.0);
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+  EXPECT_EQ(turn_samples_from_string("exclude"), TurnSamples::kExclude);
+  EXPECT_EQ(to_string(TurnSamples::kUse), "use");
+  EXPECT_THROW(turn_samples_from_string("sometimes"), std::invalid_argument);
 }
 
 }  // namespace

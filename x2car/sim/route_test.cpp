@@ -16,7 +16,7 @@ namespace x2car::sim {
 namespace {
 
 constexpr std::array kScenarios = {Scenario::kStraight, Scenario::kUrban, Scenario::kHighway,
-                                   Scenario::kMixed};
+                                   Scenario::kMixed, Scenario::kCity};
 
 // A route on a flat road (no grade, no crossfall) from curvature knots.
 Route flat_route(std::vector<CurvatureKnot> knots, double initial_heading = 0.0) {
@@ -169,6 +169,36 @@ TEST(Route, UrbanTurnsAreRightAnglesAndStopsAreOnStraights) {
     EXPECT_EQ(route.sections()[0].road_kind, Scenario::kUrban);
     EXPECT_EQ(route.sections()[0].s_end, route.length());
     EXPECT_GE(route.length(), 5000.0);
+  }
+}
+
+// Right-angle turns (from one straight to the next at another quarter heading) per km.
+double turns_per_km(const Route& route) {
+  const auto& knots = route.plan().curvature;
+  int turns = 0;
+  double last_quarters = 0.0;
+  for (std::size_t i = 0; i + 1 < knots.size(); ++i) {
+    if (knots[i].curvature != 0.0 || knots[i + 1].curvature != 0.0) continue;
+    const double quarters = std::round(
+        angle_difference(route.at(knots[i].s).heading_enu, route.plan().initial_heading_enu) /
+        (kPi / 2.0));
+    if (quarters != last_quarters) ++turns;
+    last_quarters = quarters;
+  }
+  return 1000.0 * turns / route.length();
+}
+
+// The city scenario: an urban road (section kind, so the urban world and driving style) with short
+// blocks and several right-angle turns per km, more than the urban scenario's.
+TEST(Route, CityTurnsMoreOftenThanUrban) {
+  for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+    const Route city = generate_route(Scenario::kCity, 3000.0, seed);
+    const Route urban = generate_route(Scenario::kUrban, 3000.0, seed);
+    ASSERT_EQ(city.sections().size(), 1u);
+    EXPECT_EQ(city.sections()[0].road_kind, Scenario::kUrban);
+    EXPECT_GE(turns_per_km(city), 6.0) << "seed " << seed;
+    EXPECT_GT(turns_per_km(city), turns_per_km(urban)) << "seed " << seed;
+    EXPECT_GE(city.stop_points().size() / (city.length() / 1000.0), 4.0) << "seed " << seed;
   }
 }
 

@@ -14,11 +14,12 @@
 namespace x2car::sim {
 namespace {
 
-constexpr std::array<EnumName<Scenario>, 4> kScenarioNames{{
+constexpr std::array<EnumName<Scenario>, 5> kScenarioNames{{
     {Scenario::kStraight, "straight"},
     {Scenario::kUrban, "urban"},
     {Scenario::kHighway, "highway"},
     {Scenario::kMixed, "mixed"},
+    {Scenario::kCity, "city"},
 }};
 
 constexpr double kMaxPlanLength = 1e6;   // [m] guards memory against a length that cannot be meant
@@ -237,6 +238,7 @@ DrivingStyle default_driving_style(Scenario road_kind) {
     case Scenario::kStraight:
       return {50.0 / 3.6, 70.0 / 3.6, 2.0, 300.0, 800.0};
     case Scenario::kUrban:
+    case Scenario::kCity:
       return {20.0 / 3.6, 50.0 / 3.6, 3.0, 100.0, 300.0};
     case Scenario::kHighway:
       return {80.0 / 3.6, 120.0 / 3.6, 2.0, 800.0, 2000.0};
@@ -245,6 +247,19 @@ DrivingStyle default_driving_style(Scenario road_kind) {
   }
   reject_argument("no driving style for road kind '{}' (use urban or highway)",
                   to_string(road_kind));
+}
+
+UrbanPlanOptions city_plan_options() {
+  UrbanPlanOptions city;
+  city.min_block_m = 40.0;
+  city.max_block_m = 120.0;
+  city.first_block_m = 60.0;
+  city.min_turn_radius_m = 8.0;
+  city.max_turn_radius_m = 20.0;
+  city.turn_probability = 0.8;
+  city.stop_probability = 0.6;
+  city.roundabout_probability = 0.05;
+  return city;
 }
 
 void UrbanPlanOptions::Check() const {
@@ -294,6 +309,7 @@ void MixedPlanOptions::Check() const {
 
 void RoadPlanOptions::Check() const {
   urban.Check();
+  city.Check();
   highway.Check();
   mixed.Check();
 }
@@ -320,8 +336,13 @@ RoadPlan generate_road_plan(Scenario scenario, double min_length_m, double initi
     case Scenario::kMixed:
       append_mixed(builder, min_length_m, rng, options);
       break;
+    case Scenario::kCity:
+      append_urban(builder, min_length_m, rng, options.city);
+      break;
   }
-  if (scenario != Scenario::kMixed) builder.section(0.0, scenario);
+  // A city is an urban road: its world, lanes and driving style are the urban ones.
+  if (scenario == Scenario::kCity) builder.section(0.0, Scenario::kUrban);
+  if (scenario != Scenario::kMixed && scenario != Scenario::kCity) builder.section(0.0, scenario);
   return builder.finish();
 }
 

@@ -14,10 +14,11 @@
 namespace x2car::sim {
 
 // kStraight, kUrban and kHighway are also the kinds of road a route is made of; kMixed alternates
-// urban and highway sections.
-enum class Scenario { kStraight, kUrban, kHighway, kMixed };
+// urban and highway sections; kCity is an urban road (its section's kind is kUrban) with short
+// blocks and a turn at most intersections.
+enum class Scenario { kStraight, kUrban, kHighway, kMixed, kCity };
 
-std::string to_string(Scenario scenario);  // "straight", "urban", "highway", "mixed"
+std::string to_string(Scenario scenario);  // "straight", "urban", "highway", "mixed", "city"
 // Inverse of to_string; throws std::invalid_argument listing the valid names.
 Scenario scenario_from_string(std::string_view name);
 std::vector<std::string> scenario_names();  // the CLI's choices, in table order
@@ -37,7 +38,7 @@ struct DrivingStyle {
 
 // Per road kind (kMixed throws: its sections are urban or highway):
 //   straight  50-70 km/h,  2 m/s^2 lateral, targets change every 300-800 m (mild changes)
-//   urban     20-50 km/h,  3 m/s^2 lateral, a new target per 100-300 m
+//   urban     20-50 km/h,  3 m/s^2 lateral, a new target per 100-300 m (city: the same)
 //   highway  80-120 km/h,  2 m/s^2 lateral, a new target per 800-2000 m
 DrivingStyle default_driving_style(Scenario road_kind);
 
@@ -140,8 +141,13 @@ struct MixedPlanOptions {
   void Check() const;
 };
 
+// City: the urban grid of a town centre: blocks of 40-120 m, a turn at 80 % of the intersections
+// (left and right alternate, as on a grid), a stop at 60 %, tighter corners (8-20 m).
+UrbanPlanOptions city_plan_options();
+
 struct RoadPlanOptions {
   UrbanPlanOptions urban;
+  UrbanPlanOptions city = city_plan_options();
   HighwayPlanOptions highway;
   MixedPlanOptions mixed;
 

@@ -12,10 +12,11 @@ namespace {
 
 TEST(Scenario, NamesRoundTrip) {
   for (const Scenario scenario :
-       {Scenario::kStraight, Scenario::kUrban, Scenario::kHighway, Scenario::kMixed}) {
+       {Scenario::kStraight, Scenario::kUrban, Scenario::kHighway, Scenario::kMixed,
+        Scenario::kCity}) {
     EXPECT_EQ(scenario_from_string(to_string(scenario)), scenario);
   }
-  EXPECT_EQ(scenario_names(), (std::vector<std::string>{"straight", "urban", "highway", "mixed"}));
+  EXPECT_EQ(scenario_names(), (std::vector<std::string>{"straight", "urban", "highway", "mixed", "city"}));
   EXPECT_EQ(to_string(Scenario::kHighway), "highway");
 }
 
@@ -25,7 +26,7 @@ TEST(Scenario, UnknownNameListsTheValidOnes) {
     FAIL() << "no exception";
   } catch (const std::invalid_argument& error) {
     EXPECT_THAT(error.what(), ::testing::HasSubstr("'rural'"));
-    EXPECT_THAT(error.what(), ::testing::HasSubstr("straight, urban, highway, mixed"));
+    EXPECT_THAT(error.what(), ::testing::HasSubstr("straight, urban, highway, mixed, city"));
   }
 }
 

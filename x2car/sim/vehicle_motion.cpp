@@ -436,6 +436,7 @@ const DrivingStyle& driving_style(const VehicleMotionOptions& options, Scenario 
     case Scenario::kStraight:
       return options.straight_style;
     case Scenario::kUrban:
+    case Scenario::kCity:  // an urban road (its route's section is kUrban)
       return options.urban_style;
     case Scenario::kHighway:
       return options.highway_style;
