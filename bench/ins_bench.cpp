@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <vector>
 
 #include "x2car/ins/ins_calibration.hpp"
@@ -110,6 +111,13 @@ void tally_segments(const sim::Simulation& simulation, const ins::InsCalibration
       if (record.time >= begin && record.time < begin + 60.0) records.push_back(record);
     }
     const CalibrationResult result = ins::calibrate_ins(records, options);
+    if (std::getenv("X2CAR_DEBUG")) {
+      const auto d = [&](const char* k) { return result.diagnostics.contains(k) ? result.diagnostics.at(k) : NAN; };
+      fmt::print(stderr, "seg {} moving {:.1f} ok {} turns {} rx {:.3f} fit {:.3f}+-{:.3f} valid {:.1f} err {:.4f} reason {}\n", begin,
+                 moving_seconds(simulation.states, begin, begin + 60.0), result.ok(), d("turns_used"), d("lever_arm_x_m"),
+                 d("fitted_lever_arm_x_m"), d("fitted_lever_arm_x_std_m"), d("valid_duration_s"),
+                 result.yaw ? deg_from_rad(angle_difference(*result.yaw, truth)) : NAN, result.reason);
+    }
     if (!result.ok()) continue;
     ++tally.with_yaw;
     const double error = std::abs(deg_from_rad(angle_difference(*result.yaw, truth)));

@@ -218,6 +218,7 @@ SegmentationOptions turn_segmentation(const TrackAlignmentOptions& options) {
   segments.max_abs_curvature = options.turns.max_abs_curvature;
   segments.max_abs_lateral_acceleration = options.turns.max_lateral_acceleration;
   segments.end_trim_s = options.turns.end_trim_s;
+  segments.min_duration_s = options.turns.min_run_s;
   return segments;
 }
 
@@ -337,7 +338,8 @@ std::string describe_shortage(const TrackAlignment& alignment,
       "need {:g} s. Of {} samples: {} too slow, {} in turns, {} reversing, {} in runs too short, "
       "{} trimmed at run ends, {} in {} pieces between time gaps too short to smooth{}",
       alignment.valid_duration_s, options.segments.min_speed, turn_gate,
-      options.segments.min_duration_s, options.min_valid_duration_s, alignment.track.time.size(),
+      alignment.turns_used ? options.turns.min_run_s : options.segments.min_duration_s,
+      options.min_valid_duration_s, alignment.track.time.size(),
       r.slow, r.curved, alignment.reversing_samples, r.short_run, r.trimmed,
       alignment.in_short_pieces, alignment.short_pieces,
       alignment.lever_arm_rejected
@@ -366,6 +368,7 @@ void TurnOptions::Check() const {
   check.positive("max_lateral_acceleration", max_lateral_acceleration);
   check.positive("max_abs_curvature", max_abs_curvature);
   check.non_negative("end_trim_s", end_trim_s);
+  check.non_negative("min_run_s", min_run_s);
   check.that(!lever_arm || lever_arm->allFinite(), "lever_arm", "must be finite");
   check.non_negative("min_curvature_spread", min_curvature_spread);
   check.positive("max_abs_lever_arm_x", max_abs_lever_arm_x);

@@ -90,6 +90,9 @@ struct TurnOptions {
   // in or out; with turns used the runs end where the car slows below min_speed or the lateral
   // acceleration passes the gate, where the heading needs no margin.
   double end_trim_s = 0.0;
+  // [s] the shortest run kept (the paper's 5 s, segments.min_duration_s, makes sure a run is a
+  // straight): with turns used, the runs between a stop and a sharp corner are short and sound.
+  double min_run_s = 2.0;
   // The sensor's position in the vehicle frame [m] (x forward of the rear axle); only x is used.
   // Unset: x is estimated from the turns.
   std::optional<Eigen::Vector3d> lever_arm;
@@ -97,13 +100,15 @@ struct TurnOptions {
   // The estimated lever arm is used only when the curvature's standard deviation over the valid
   // samples is at least min_curvature_spread [1/m] (on a circle, or on a highway's gentle curves,
   // the turns cannot separate x from the yaw, and add little the paper's gates do not keep) ...
-  double min_curvature_spread = 0.005;
+  double min_curvature_spread = 0.002;
   // ... when |x| <= max_abs_lever_arm_x [m] (a larger one means
   // the model does not hold: sideslip, velocities in another frame) ...
   double max_abs_lever_arm_x = 6.0;
   // ... and when the yaw's uncertainty from it, |mean curvature| x SE(x), is at most this [rad]:
-  // on a drive that turns mostly one way (a circle) the yaw and x cannot be told apart.
-  double max_lever_arm_yaw_std = rad_from_deg(0.02);
+  // on a drive that turns mostly one way the yaw and x are hard to tell apart. That uncertainty is
+  // added to the yaw's standard error; beyond a twentieth of a degree the turns cost more than
+  // they give.
+  double max_lever_arm_yaw_std = rad_from_deg(0.05);
 
   void Check() const;
 };
