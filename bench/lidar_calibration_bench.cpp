@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "x2car/lidar/lidar_calibration.hpp"
 #include "x2car/lidar/lidar_test_support.hpp"
@@ -77,6 +79,77 @@ BENCHMARK(BM_LidarAccuracy)
     ->Arg(32)
     ->Arg(64)
     ->Arg(128)
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime()
+    ->Iterations(1);
+
+}  // namespace
+}  // namespace x2car
+
+namespace x2car {
+namespace {
+
+// Issue 12 item 6 ("use the turns"): simulated city drives (short blocks, a turn at most corners)
+// cut into 1-minute segments, as the paper's protocol does; every segment with >= 20 s faster than
+// 3 m/s should give a yaw within 0.1 deg. Args: beams, turns (0 use, 1 exclude: the paper's
+// gates). Seeds 1-2, 180 s each (six minutes of sweeps, made twice: one odometry per segment).
+// Counters: eligible segments, the share giving a yaw, the share within 0.1 deg, the largest and
+// the median |error| [deg].
+void BM_LidarYawPerMinute(benchmark::State& state) {
+  const int beams = static_cast<int>(state.range(0));
+  const bool exclude = state.range(1) != 0;
+  lidar::LidarCalibrationOptions options;
+  options.keep_series = false;
+  if (exclude) options.alignment.turns.samples = TurnSamples::kExclude;
+  int eligible = 0, with_yaw = 0, within = 0;
+  std::vector<double> errors_deg;
+  for (auto _ : state) {
+    for (std::uint64_t seed = 1; seed <= 2; ++seed) {
+      const lidar::testing::SimulatedLidarDrive drive(
+          sim::testing::simulated_lidar_drive(sim::Scenario::kCity, 180.0, beams, seed));
+      const lidar::SweepSource all = lidar::testing::sweep_source(drive);
+      const sim::VehicleStates& states = drive.simulation().states;
+      for (double begin = 0.0; begin + 60.0 <= 180.0 + 1e-9; begin += 60.0) {
+        double moving = 0.0;
+        for (std::size_t i = 1; i < states.size(); ++i) {
+          if (states[i].time > begin && states[i].time <= begin + 60.0 &&
+              std::abs(states[i].speed) > 3.0) {
+            moving += states[i].time - states[i - 1].time;
+          }
+        }
+        if (moving < 20.0) continue;
+        ++eligible;
+        lidar::SweepSource minute;
+        std::vector<std::size_t> indices;
+        for (std::size_t i = 0; i < all.times.size(); ++i) {
+          if (all.times[i] >= begin && all.times[i] < begin + 60.0) {
+            minute.times.push_back(all.times[i]);
+            indices.push_back(i);
+          }
+        }
+        minute.read = [&all, indices](std::size_t index) { return all.read(indices[index]); };
+        const CalibrationResult result = lidar::calibrate_lidar(minute, options);
+        if (!result.ok() || !result.yaw) continue;
+        ++with_yaw;
+        const double error =
+            std::abs(deg_from_rad(angle_difference(*result.yaw, drive.truth().rotation.yaw)));
+        errors_deg.push_back(error);
+        if (error <= 0.1) ++within;
+      }
+    }
+  }
+  state.SetLabel(std::to_string(beams) + " beams, city, turns " + (exclude ? "excluded" : "used") +
+                 ", 1-min segments of seeds 1-2 x 180 s");
+  state.counters["segments"] = eligible;
+  state.counters["with_yaw_share"] = eligible > 0 ? static_cast<double>(with_yaw) / eligible : 0.0;
+  state.counters["within_0.1deg_share"] =
+      eligible > 0 ? static_cast<double>(within) / eligible : 0.0;
+  std::ranges::sort(errors_deg);
+  state.counters["max_err_deg"] = errors_deg.empty() ? NAN : errors_deg.back();
+  state.counters["median_err_deg"] = errors_deg.empty() ? NAN : errors_deg[errors_deg.size() / 2];
+}
+BENCHMARK(BM_LidarYawPerMinute)
+    ->ArgsProduct({{32}, {0, 1}})
     ->Unit(benchmark::kSecond)
     ->UseRealTime()
     ->Iterations(1);

@@ -421,6 +421,31 @@ TEST(CalibrateIns, RecoversTheSimulatedMountingAndWritesEveryForm) {
   EXPECT_THAT(generic.output, HasSubstr("yaw"));
 }
 
+// Issue 12: --turns exclude keeps the paper's straight-only gates; --lever-arm gives the sensor's
+// position instead of fitting it.
+TEST(CalibrateIns, TurnsAndLeverArmOptions) {
+  const auto drive = simulated_drive();
+  const std::string input = " --input " + (drive / "ins/novatel_enu.csv").string();
+  const auto json = drive / "ins_turns.json";
+  const auto number_after = [&](const std::string& key) {
+    const std::string text = io::read_text_file(json);
+    const std::size_t at = text.find("\"" + key + "\": ");
+    return at == std::string::npos ? NAN : std::stod(text.substr(at + key.size() + 4));
+  };
+  CliRun run = run_x2car("calibrate ins" + input + " --lever-arm 1.2 0.1 1.0 --out " +
+                         json.string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(number_after("turns_used"), 1.0);
+  EXPECT_EQ(number_after("lever_arm_x_m"), 1.2);
+  EXPECT_NEAR(number_after("yaw_deg"), 2.0, 0.05);
+  run = run_x2car("calibrate ins" + input + " --turns exclude --out " + json.string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(number_after("turns_used"), 0.0);
+  EXPECT_NEAR(number_after("yaw_deg"), 2.0, 0.05);
+  EXPECT_EQ(run_x2car("calibrate ins" + input + " --turns sometimes").exit_code, 2);
+  EXPECT_EQ(run_x2car("calibrate ins" + input + " --lever-arm 1 2").exit_code, 2);
+}
+
 TEST(CalibrateIns, TurningOnlyExitsWithOneAndSaysWhatIsMissing) {
   // 10 s on a 30 m circle at 8 m/s.
   std::string csv = "time,x,y,z,vx,vy,vz,roll,pitch,yaw\n";

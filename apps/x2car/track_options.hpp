@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "x2car/core/track_alignment.hpp"
 #include "x2car/core/yaw_choice.hpp"
@@ -19,6 +20,9 @@ struct TrackArguments {
   std::optional<double> max_curvature_per_m;
   std::optional<double> min_segment_s;
   std::optional<double> min_duration_s;
+  std::optional<std::string> turns;                    // use | exclude
+  std::optional<double> max_lateral_acceleration_mps2;  // with turns used
+  std::vector<double> lever_arm_m;                      // x y z of the sensor on the car [m]
 };
 
 // `samples` names what is gated in the help ("samples", "poses").
