@@ -146,14 +146,15 @@ void BM_InsYawPerMinute(benchmark::State& state) {
       tally_segments(sim::simulate(drive_options), options, tally);
     }
   }
-  state.SetLabel(fmt::format("{} {} turns {}, sideslip {:g} deg/(m/s^2), 1-min segments of "
-                             "seeds 1-5 x 300 s",
-                             sim::to_string(scenario), sps ? "sps" : "rtk",
-                             exclude ? "excluded" : "used", sideslip_deg));
+  state.SetLabel(fmt::format(
+      "{} {} turns {}, sideslip {:g} deg/(m/s^2), 1-min segments of "
+      "seeds 1-5 x 300 s",
+      sim::to_string(scenario), sps ? "sps" : "rtk", exclude ? "excluded" : "used", sideslip_deg));
   report_tally(state, tally);
 }
 BENCHMARK(BM_InsYawPerMinute)
-    ->ArgsProduct({{static_cast<int>(sim::Scenario::kUrban), static_cast<int>(sim::Scenario::kCity)},
+    ->ArgsProduct({{static_cast<int>(sim::Scenario::kUrban),
+                    static_cast<int>(sim::Scenario::kCity)},
                    {0, 1},
                    {0, 300},
                    {0, 1}})

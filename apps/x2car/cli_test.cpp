@@ -432,8 +432,8 @@ TEST(CalibrateIns, TurnsAndLeverArmOptions) {
     const std::size_t at = text.find("\"" + key + "\": ");
     return at == std::string::npos ? NAN : std::stod(text.substr(at + key.size() + 4));
   };
-  CliRun run = run_x2car("calibrate ins" + input + " --lever-arm 1.2 0.1 1.0 --out " +
-                         json.string());
+  CliRun run =
+      run_x2car("calibrate ins" + input + " --lever-arm 1.2 0.1 1.0 --out " + json.string());
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_EQ(number_after("turns_used"), 1.0);
   EXPECT_EQ(number_after("lever_arm_x_m"), 1.2);

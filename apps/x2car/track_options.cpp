@@ -27,7 +27,7 @@ void add_track_options(CLI::App& command, TrackArguments& arguments, const std::
       ->default_str(fmt::format("{:g}", defaults.segments.max_abs_curvature));
   command
       .add_option("--min-segment", arguments.min_segment_s,
-                  "Shortest run of usable " + samples + " kept [s]")
+                  "With --turns exclude: shortest run of usable " + samples + " kept [s]")
       ->check(non_negative_number())
       ->default_str(fmt::format("{:g}", defaults.segments.min_duration_s));
   command
@@ -72,8 +72,8 @@ void apply_track_arguments(const TrackArguments& arguments, TrackAlignmentOption
     alignment.turns.max_lateral_acceleration = *arguments.max_lateral_acceleration_mps2;
   }
   if (arguments.lever_arm_m.size() == 3) {
-    alignment.turns.lever_arm =
-        Eigen::Vector3d(arguments.lever_arm_m[0], arguments.lever_arm_m[1], arguments.lever_arm_m[2]);
+    alignment.turns.lever_arm = Eigen::Vector3d(arguments.lever_arm_m[0], arguments.lever_arm_m[1],
+                                                arguments.lever_arm_m[2]);
   }
 }
 

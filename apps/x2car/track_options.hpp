@@ -20,7 +20,7 @@ struct TrackArguments {
   std::optional<double> max_curvature_per_m;
   std::optional<double> min_segment_s;
   std::optional<double> min_duration_s;
-  std::optional<std::string> turns;                    // use | exclude
+  std::optional<std::string> turns;                     // use | exclude
   std::optional<double> max_lateral_acceleration_mps2;  // with turns used
   std::vector<double> lever_arm_m;                      // x y z of the sensor on the car [m]
 };

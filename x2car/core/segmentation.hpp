@@ -1,6 +1,6 @@
-// Splitting a sampled track into continuous runs that meet speed, curvature and lateral-acceleration
-// limits for a minimum duration: the moving stretches on which heading comparisons are valid (the
-// paper's straight ones, or with turns of low lateral acceleration too).
+// Splitting a sampled track into continuous runs that meet speed, curvature and
+// lateral-acceleration limits for a minimum duration: the moving stretches on which heading
+// comparisons are valid (the paper's straight ones, or with turns of low lateral acceleration too).
 #pragma once
 
 #include <cstddef>
@@ -16,9 +16,9 @@ struct SegmentationOptions {
   double max_abs_curvature = 0.01;  // [1/m] |kappa| above this is a turn (radius < 100 m)
   // [m/s^2] |speed^2 * kappa| (the lateral acceleration) above this is a turn too; infinite: off.
   double max_abs_lateral_acceleration = std::numeric_limits<double>::infinity();
-  double min_duration_s = 5.0;      // [s] shorter runs are dropped
-  double max_gap_s = 0.5;           // [s] a larger gap between samples breaks a run
-  double end_trim_s = 0.0;          // [s] cut from both ends of each run, where turns begin/end
+  double min_duration_s = 5.0;  // [s] shorter runs are dropped
+  double max_gap_s = 0.5;       // [s] a larger gap between samples breaks a run
+  double end_trim_s = 0.0;      // [s] cut from both ends of each run, where turns begin/end
 
   void Check() const;
 };

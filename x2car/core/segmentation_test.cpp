@@ -103,9 +103,8 @@ TEST(Segmentation, ExcludedSamplesBreakRunsAndAreCountedFirst) {
 // gate of 2 m/s^2 with a loose curvature bound; at 5 m/s (1.25 m/s^2) it is kept.
 TEST(Segmentation, LateralAccelerationGatesTurnsByHowHardTheyAre) {
   ConstructedTrack track = make_track();
-  const SegmentationOptions turns{.max_abs_curvature = 0.2,
-                                  .max_abs_lateral_acceleration = 2.0,
-                                  .min_duration_s = 5.0};
+  const SegmentationOptions turns{
+      .max_abs_curvature = 0.2, .max_abs_lateral_acceleration = 2.0, .min_duration_s = 5.0};
   Segmentation fast = segment_runs(track.times, track.speeds, track.curvatures, turns);
   EXPECT_EQ(fast.rejections.curved, 40);
   ASSERT_EQ(fast.segments.size(), 3u);

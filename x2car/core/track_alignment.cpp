@@ -271,9 +271,8 @@ void segment_and_correct(const TrackAlignmentOptions& options,
     // the track's heading carries the same information.
     const std::vector<double>& offsets =
         alignment.velocity_from_sensor ? alignment.velocity_yaw : alignment.heading_offset;
-    alignment.lever_arm_fit = fit_lever_arm_x(offsets,
-                                              alignment.yaw_rate_curvature,
-                                              alignment.segmentation, turns.fit);
+    alignment.lever_arm_fit =
+        fit_lever_arm_x(offsets, alignment.yaw_rate_curvature, alignment.segmentation, turns.fit);
     alignment.lever_arm_rejected = lever_arm_rejection(*alignment.lever_arm_fit, turns);
     if (alignment.lever_arm_rejected) {
       alignment.turns_used = false;
@@ -296,8 +295,7 @@ void segment_and_correct(const TrackAlignmentOptions& options,
 void add_lever_arm_uncertainty(const TrackAlignment& alignment, SegmentAverage& yaw) {
   if (!alignment.turns_used || !alignment.lever_arm_fit) return;
   const LeverArmFit& fit = *alignment.lever_arm_fit;
-  yaw.standard_error =
-      std::hypot(yaw.standard_error, fit.mean_curvature * fit.lever_arm_x_std);
+  yaw.standard_error = std::hypot(yaw.standard_error, fit.mean_curvature * fit.lever_arm_x_std);
 }
 
 // Least-squares slope of the inlier pitches on the acceleration; 0 when the acceleration hardly
@@ -339,12 +337,11 @@ std::string describe_shortage(const TrackAlignment& alignment,
       "{} trimmed at run ends, {} in {} pieces between time gaps too short to smooth{}",
       alignment.valid_duration_s, options.segments.min_speed, turn_gate,
       alignment.turns_used ? options.turns.min_run_s : options.segments.min_duration_s,
-      options.min_valid_duration_s, alignment.track.time.size(),
-      r.slow, r.curved, alignment.reversing_samples, r.short_run, r.trimmed,
-      alignment.in_short_pieces, alignment.short_pieces,
-      alignment.lever_arm_rejected
-          ? "; turns not used: " + *alignment.lever_arm_rejected
-          : std::string());
+      options.min_valid_duration_s, alignment.track.time.size(), r.slow, r.curved,
+      alignment.reversing_samples, r.short_run, r.trimmed, alignment.in_short_pieces,
+      alignment.short_pieces,
+      alignment.lever_arm_rejected ? "; turns not used: " + *alignment.lever_arm_rejected
+                                   : std::string());
 }
 
 constexpr std::array<EnumName<TurnSamples>, 2> kTurnSamplesNames{{

@@ -146,10 +146,10 @@ struct TrackAlignmentOptions {
 
 struct TrackAlignment {
   // Per sample (all samples of the input, in order).
-  PlanarTrackSamples track;                       // smoothed track: speed, heading_enu, curvature
-  std::vector<double> gate_curvature;             // what the turn gate tested [1/m]
-  std::vector<double> yaw_rate_curvature;         // the sensor's yaw rate over its speed [1/m]
-  std::vector<double> sensor_heading;             // ZYX yaw of world_from_sensor [rad]
+  PlanarTrackSamples track;                // smoothed track: speed, heading_enu, curvature
+  std::vector<double> gate_curvature;      // what the turn gate tested [1/m]
+  std::vector<double> yaw_rate_curvature;  // the sensor's yaw rate over its speed [1/m]
+  std::vector<double> sensor_heading;      // ZYX yaw of world_from_sensor [rad]
   // wrap(sensor_heading - track heading + lever_arm_shift) [rad]
   std::vector<double> heading_offset;
   // Per-sample yaw of the velocity method, + lever_arm_shift [rad].

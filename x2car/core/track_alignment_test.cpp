@@ -227,8 +227,8 @@ SensorTrack city_blocks(const EulerAngles& mounting, const Eigen::Vector3d& leve
       track.time.push_back(t);
       track.position_enu.push_back(rear_axle + world_from_vehicle * lever_arm);
       track.world_from_sensor.push_back(world_from_vehicle * vehicle_from_sensor);
-      track.velocity_enu.push_back(
-          world_from_vehicle * (Eigen::Vector3d(kSpeed, 0.0, 0.0) + omega.cross(lever_arm)));
+      track.velocity_enu.push_back(world_from_vehicle *
+                                   (Eigen::Vector3d(kSpeed, 0.0, 0.0) + omega.cross(lever_arm)));
     }
     const double mid_heading = heading + 0.5 * dt * yaw_rate(t);
     rear_axle += kSpeed * dt * Eigen::Vector3d(std::cos(mid_heading), std::sin(mid_heading), 0.0);

@@ -75,7 +75,8 @@ std::vector<bool> inliers_of(std::span<const FitSample> samples, const FitState&
                              const LeverArmFitOptions& options) {
   std::vector<double> residuals(samples.size());
   for (std::size_t i = 0; i < samples.size(); ++i) residuals[i] = residual(samples[i], state);
-  return mad_inlier_mask(residuals, {.k = options.outlier_k, .min_sigma = options.outlier_min_sigma});
+  return mad_inlier_mask(residuals,
+                         {.k = options.outlier_k, .min_sigma = options.outlier_min_sigma});
 }
 
 }  // namespace

@@ -2,9 +2,9 @@
 // only nearly straight samples, §III-B/C).
 //
 // The car's reference point, the rear axle (the origin of V, DESIGN §1), moves along the car's x
-// axis: a car rolling on its tyres has no lateral velocity there (kinematic bicycle; the sideslip of
-// real tyres grows with the lateral acceleration and is kept small by gating on it). A sensor at the
-// lever arm r = (r_x, r_y, r_z) in V moves with
+// axis: a car rolling on its tyres has no lateral velocity there (kinematic bicycle; the sideslip
+// of real tyres grows with the lateral acceleration and is kept small by gating on it). A sensor at
+// the lever arm r = (r_x, r_y, r_z) in V moves with
 //   v_sensor = v_car + omega x r = (v - omega r_y, omega r_x, 0)   in V,
 // omega the yaw rate, so its velocity, and the tangent of its track, point
 //   beta = asin(omega r_x / s) = asin(kappa r_x),   kappa = omega / s,
@@ -14,8 +14,8 @@
 // psi the mounting yaw. Only r_x enters: r_y changes the sensor's speed, not its direction.
 // With r_x known, beta is added back; without it, r_x and psi are fitted jointly (the lateral
 // velocity of the sensor in the car's frame is omega r_x: the offsets fall linearly with kappa,
-// slope -r_x), which needs kappa to vary over the samples (straights and turns): on a circle psi and
-// r_x cannot be told apart.
+// slope -r_x), which needs kappa to vary over the samples (straights and turns): on a circle psi
+// and r_x cannot be told apart.
 #pragma once
 
 #include <cstdint>
@@ -34,7 +34,8 @@ std::vector<double> lever_arm_heading_shift(std::span<const double> yaw_rate_cur
                                             double lever_arm_x);
 
 struct LeverArmFitOptions {
-  // Samples whose residual is more than k robust sigmas (at least min_sigma [rad]) off are left out.
+  // Samples whose residual is more than k robust sigmas (at least min_sigma [rad]) off are left
+  // out.
   double outlier_k = 3.0;
   double outlier_min_sigma = 1e-4;  // [rad] (0.006 deg)
   // Samples closer in time than this share their errors (track noise, smoothing): the standard
@@ -48,11 +49,11 @@ struct LeverArmFit {
   double lever_arm_x = 0.0;  // [m]
   // [m]; infinite when kappa does not vary over the samples (r_x not identifiable).
   double lever_arm_x_std = std::numeric_limits<double>::infinity();
-  double yaw = 0.0;                    // the intercept psi [rad]
-  double residual_sigma = 0.0;         // of the inliers [rad]
-  double mean_curvature = 0.0;         // mean kappa of the inliers [1/m]
-  double curvature_spread = 0.0;       // standard deviation of kappa over the inliers [1/m]
-  std::int64_t samples = 0;            // inliers used
+  double yaw = 0.0;               // the intercept psi [rad]
+  double residual_sigma = 0.0;    // of the inliers [rad]
+  double mean_curvature = 0.0;    // mean kappa of the inliers [1/m]
+  double curvature_spread = 0.0;  // standard deviation of kappa over the inliers [1/m]
+  std::int64_t samples = 0;       // inliers used
   std::int64_t outliers = 0;
 };
 

@@ -11,12 +11,12 @@ namespace x2car::sim {
 namespace {
 
 TEST(Scenario, NamesRoundTrip) {
-  for (const Scenario scenario :
-       {Scenario::kStraight, Scenario::kUrban, Scenario::kHighway, Scenario::kMixed,
-        Scenario::kCity}) {
+  for (const Scenario scenario : {Scenario::kStraight, Scenario::kUrban, Scenario::kHighway,
+                                  Scenario::kMixed, Scenario::kCity}) {
     EXPECT_EQ(scenario_from_string(to_string(scenario)), scenario);
   }
-  EXPECT_EQ(scenario_names(), (std::vector<std::string>{"straight", "urban", "highway", "mixed", "city"}));
+  EXPECT_EQ(scenario_names(),
+            (std::vector<std::string>{"straight", "urban", "highway", "mixed", "city"}));
   EXPECT_EQ(to_string(Scenario::kHighway), "highway");
 }
 
