@@ -25,8 +25,8 @@ struct CoverageRun {
 };
 
 struct CoverageCriteria {
-  double k_sigma = 2.0;           // a run is covered when |error| <= k_sigma * SE
-  double min_fraction = 0.90;     // of the runs
+  double k_sigma = 2.0;            // a run is covered when |error| <= k_sigma * SE
+  double min_fraction = 0.90;      // of the runs
   double max_se_over_error = 3.0;  // median SE / median |error|
   int min_runs = 50;
 };
