@@ -159,6 +159,7 @@ void RadarAutoOptions::Check() const {
   check.positive("agreement_sigmas", agreement_sigmas);
   check.non_negative("agreement_floor", agreement_floor);
   check.at_least("min_position_objects", min_position_objects, 1);
+  check.positive("max_disagreement", max_disagreement);
 }
 
 CalibrationResult calibrate_radar(std::span<const io::RadarDetection> detections,

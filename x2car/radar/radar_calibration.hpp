@@ -186,6 +186,10 @@ struct RadarAutoOptions {
   // a time offset: the paper's reason for the position method), and the position method is
   // reported if at least this many static objects support it; otherwise the velocity method.
   int min_position_objects = 10;
+  // Methods further apart than this cannot both be near the truth, and neither is trusted: the
+  // result is unreliable. Larger than the biases docs/methods.md tabulates for the Doppler at
+  // their nominal sizes [rad].
+  double max_disagreement = rad_from_deg(1.0);
 
   void Check() const;  // throws std::invalid_argument naming the offending field
 };

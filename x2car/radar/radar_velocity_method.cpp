@@ -109,23 +109,37 @@ double static_range_rate(const RadarSample& sample, double yaw, double speed_sca
 CoarseSearch coarse_yaw_search(std::span<const RadarSample> samples,
                                const RadarVelocityMethodOptions& options) {
   const YawGrid grid = yaw_grid(options);
+  const bool circle = !options.nominal_yaw;
   const double prior = options.nominal_yaw.value_or(0.0);
   CoarseSearch best{.yaw = prior, .speed_scale = 1.0, .consistent = -1};
+  const auto better = [&](const CoarseSearch& candidate) {
+    if (candidate.consistent != best.consistent) return candidate.consistent > best.consistent;
+    const double from_prior = std::abs(angle_difference(candidate.yaw, prior));
+    const double best_from_prior = std::abs(angle_difference(best.yaw, prior));
+    if (from_prior != best_from_prior) return from_prior < best_from_prior;
+    return std::abs(candidate.speed_scale - 1.0) < std::abs(best.speed_scale - 1.0);
+  };
   for (const double scale : speed_scale_grid(options)) {
     const std::vector<int> counts =
         consistent_counts(samples, grid, scale, options.coarse_tolerance_mps);
+    const int most = *std::max_element(counts.begin(), counts.end());
+    // Each run of grid values with the most counts offers its middle: exact data fit over a
+    // plateau of psi, and its middle is the best guess.
+    const auto at = [&](int k) { return counts[static_cast<std::size_t>((k + grid.size) % grid.size)]; };
     for (int k = 0; k < grid.size; ++k) {
-      const double yaw = wrap_angle(grid.first + k * grid.step);
-      const std::int64_t count = counts[static_cast<std::size_t>(k)];
-      const auto closer = [&] {
-        const double from_prior = std::abs(angle_difference(yaw, prior));
-        const double best_from_prior = std::abs(angle_difference(best.yaw, prior));
-        if (from_prior != best_from_prior) return from_prior < best_from_prior;
-        return std::abs(scale - 1.0) < std::abs(best.speed_scale - 1.0);
-      };
-      if (count > best.consistent || (count == best.consistent && closer())) {
-        best = {yaw, scale, count};
+      if (at(k) != most || (circle ? at(k - 1) == most : k > 0 && at(k - 1) == most)) continue;
+      int end = k;
+      while (end + 1 < k + grid.size && (circle || end + 1 < grid.size) && at(end + 1) == most) {
+        ++end;
       }
+      const CoarseSearch candidate{wrap_angle(grid.first + 0.5 * (k + end) * grid.step), scale,
+                                   most};
+      if (better(candidate)) best = candidate;
+    }
+    if (circle && most == at(-1) && std::all_of(counts.begin(), counts.end(),
+                                                [&](int count) { return count == most; })) {
+      const CoarseSearch candidate{prior, scale, most};  // no information at all
+      if (better(candidate)) best = candidate;
     }
   }
   return best;

@@ -1,11 +1,13 @@
 #include "x2car/radar/radar_velocity_method.hpp"
 
-#include <fmt/format.h>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "x2car/radar/radar_calibration.hpp"
+#include "x2car/radar/radar_velocity_fit.hpp"
 #include "x2car/sim/test_drives.hpp"
 
 namespace x2car::radar {
@@ -13,96 +15,173 @@ namespace {
 
 namespace testing = sim::testing;
 
-TEST(RadarVelocityExplore, Directions) {
+using ::testing::HasSubstr;
+
+RadarCalibrationOptions options_for(RadarMethod method, const Eigen::Vector3d& lever_arm) {
+  RadarCalibrationOptions options;
+  options.method = method;
+  options.lever_arm_in_vehicle = lever_arm.head<2>();
+  return options;
+}
+
+double error_deg(const CalibrationResult& result, double truth_deg) {
+  return deg_from_rad(angle_difference(*result.yaw, rad_from_deg(truth_deg)));
+}
+
+// Issue 12: radars facing front, the corners, the sides and the rear, at plausible lever arms,
+// one seed each on the cached 60 s drive (bench/radar_bench.cpp runs 5 seeds each): the velocity
+// method and auto within 0.1 deg of the truth, ok. Measured on seed 1: |error| <= 0.06 deg.
+TEST(RadarVelocityMethod, AnyMountingDirection) {
+  const testing::RadarDrive& drive = testing::urban_radar_drive(1);
   for (const double yaw_deg : {0.0, 25.0, -25.0, 85.0, -85.0, 90.0, -90.0, 180.0}) {
-    for (std::uint64_t seed = 1; seed <= 2; ++seed) {
-      const testing::RadarDrive& drive = testing::urban_radar_drive(seed);
-      const Eigen::Vector3d lever = testing::radar_lever_arm_facing(yaw_deg);
-      auto detections = testing::radar_detections_at(drive, lever, yaw_deg,
-                                                     sim::RadarOptions::conti_ars408(), seed);
-      RadarCalibrationOptions options;
-      options.method = RadarMethod::kVelocity;
-      options.lever_arm_in_vehicle = lever.head<2>();
-      for (int variant = 0; variant < 3; ++variant) {
-        auto modified = detections;
-        for (auto& d : modified) {
-          if (variant == 1) d.azimuth *= 180.0 / kPi;
-          if (variant == 2) d.range_rate = -d.range_rate;
+    SCOPED_TRACE(::testing::Message() << "yaw " << yaw_deg << " deg");
+    const Eigen::Vector3d lever_arm = testing::radar_lever_arm_facing(yaw_deg);
+    const auto detections = testing::radar_detections_at(drive, lever_arm, yaw_deg,
+                                                         sim::RadarOptions::conti_ars408(), 1);
+    for (const RadarMethod method : {RadarMethod::kVelocity, RadarMethod::kAuto}) {
+      const CalibrationResult result =
+          calibrate_radar(detections, drive.simulation.ins, options_for(method, lever_arm));
+      ASSERT_TRUE(result.ok()) << to_string(method) << ": " << result.reason;
+      EXPECT_LE(std::abs(error_deg(result, yaw_deg)), 0.1) << to_string(method);
+    }
+  }
+}
+
+// Issue 12: an azimuth in degrees read as radians, or a range rate of the other sign, must never
+// end ok, whichever way the radar faces. A flipped sign fits the cosine at psi + 180 deg exactly;
+// the displacement check finds it. Degrees leave residuals of metres per second and a speed scale
+// far from 1.
+TEST(RadarVelocityMethod, DegreesOrAFlippedDopplerAreNeverOk) {
+  const testing::RadarDrive& drive = testing::urban_radar_drive(2);
+  for (const double yaw_deg : {0.0, 90.0, -85.0, 180.0}) {
+    const Eigen::Vector3d lever_arm = testing::radar_lever_arm_facing(yaw_deg);
+    const auto detections = testing::radar_detections_at(drive, lever_arm, yaw_deg,
+                                                         sim::RadarOptions::conti_ars408(), 2);
+    for (const bool degrees : {true, false}) {
+      std::vector<io::RadarDetection> wrong = detections;
+      for (io::RadarDetection& detection : wrong) {
+        if (degrees) {
+          detection.azimuth *= 180.0 / kPi;
+        } else {
+          detection.range_rate = -detection.range_rate;
         }
-        const CalibrationResult r = calibrate_radar(modified, drive.simulation.ins, options);
-        fmt::print("yaw {:6.1f} seed {} v{} status {} err {:8.4f} se {:.4f} scale {:.4f} sig {:.3f} sf {:.2f} ws {:.2f} disp {}/{}/{} t {:.2f} | {}\n",
-                   yaw_deg, seed, variant, to_string(r.status),
-                   r.yaw ? deg_from_rad(angle_difference(*r.yaw, rad_from_deg(yaw_deg))) : NAN,
-                   r.yaw_std ? deg_from_rad(*r.yaw_std) : NAN,
-                   r.diagnostics.contains("speed_scale") ? r.diagnostics.at("speed_scale") : NAN,
-                   r.diagnostics.contains("residual_sigma_mps") ? r.diagnostics.at("residual_sigma_mps") : NAN,
-                   r.diagnostics.contains("static_fraction") ? r.diagnostics.at("static_fraction") : NAN,
-                   r.diagnostics.contains("window_spread") ? r.diagnostics.at("window_spread") : NAN,
-                   r.diagnostics.contains("displacement_matched") ? r.diagnostics.at("displacement_matched") : NAN,
-                   r.diagnostics.contains("displacement_mirrored") ? r.diagnostics.at("displacement_mirrored") : NAN,
-                   r.diagnostics.contains("displacement_tests") ? r.diagnostics.at("displacement_tests") : NAN,
-                   r.seconds, r.reason.substr(0, 200));
+      }
+      for (const RadarMethod method : {RadarMethod::kVelocity, RadarMethod::kAuto}) {
+        SCOPED_TRACE(::testing::Message() << "yaw " << yaw_deg << " deg, "
+                                          << (degrees ? "degrees" : "flipped sign") << ", "
+                                          << to_string(method));
+        const CalibrationResult result =
+            calibrate_radar(wrong, drive.simulation.ins, options_for(method, lever_arm));
+        EXPECT_FALSE(result.ok()) << result.reason;
+        EXPECT_THAT(to_string(result.status), ::testing::AnyOf("unreliable", "insufficient_data"));
+        if (method == RadarMethod::kVelocity && !degrees) {
+          EXPECT_THAT(result.reason, HasSubstr("sign is likely flipped"));
+        }
       }
     }
   }
 }
 
+// A prior on the yaw confines the search: the flipped sign then finds nothing consistent.
+TEST(RadarVelocityMethod, NominalYawConfinesTheSearch) {
+  const testing::RadarDrive& drive = testing::urban_radar_drive(1);
+  const double yaw_deg = 90.0;
+  const Eigen::Vector3d lever_arm = testing::radar_lever_arm_facing(yaw_deg);
+  auto detections = testing::radar_detections_at(drive, lever_arm, yaw_deg,
+                                                 sim::RadarOptions::conti_ars408(), 1);
+  RadarCalibrationOptions options = options_for(RadarMethod::kVelocity, lever_arm);
+  options.velocity.nominal_yaw = rad_from_deg(70.0);
+  CalibrationResult result = calibrate_radar(detections, drive.simulation.ins, options);
+  ASSERT_TRUE(result.ok()) << result.reason;
+  EXPECT_LE(std::abs(error_deg(result, yaw_deg)), 0.1);
+  for (io::RadarDetection& detection : detections) detection.range_rate = -detection.range_rate;
+  result = calibrate_radar(detections, drive.simulation.ins, options);
+  EXPECT_FALSE(result.ok()) << result.reason;
+}
 
-TEST(RadarVelocityExplore, Seed104) {
-  for (const double duration : {20.0, 60.0}) {
-  for (std::uint64_t seed : {104, 109, 101, 102}) {
-    const double yaw_deg = seed == 104 ? 0.0 : seed == 109 ? 180.0 : seed == 101 ? 180.0 : 25.0;
-    const testing::RadarDrive& drive = testing::urban_radar_drive(seed, duration);
-    const Eigen::Vector3d lever = testing::radar_lever_arm_facing(yaw_deg);
-    sim::RadarOptions noisy = sim::RadarOptions::conti_ars408();
-    noisy.range_sigma_m = 0.4;
-    noisy.azimuth_sigma = rad_from_deg(0.6);
-    noisy.range_rate_sigma_mps = 0.2;
-    noisy.clutter_rate = 3.0;
-    auto detections = testing::radar_detections_at(drive, lever, yaw_deg, noisy, seed);
-    for (int variant = 0; variant < 4; ++variant) {
-      RadarCalibrationOptions options;
-      options.method = RadarMethod::kVelocity;
-      if (variant != 1) options.lever_arm_in_vehicle = lever.head<2>();
-      if (variant == 2) options.velocity.estimate_speed_scale = false;
-      if (variant == 3) options.max_yaw_rate_with_lever_arm = rad_from_deg(0.5);
-      const CalibrationResult r = calibrate_radar(detections, drive.simulation.ins, options);
-      fmt::print("dur {} seed {} v{} {} err {:8.4f} se {:.4f} formal {:.4f} scale {:.4f}+-{:.4f} blocks {} sig {:.3f} n {}\n", duration, seed, variant,
-                 to_string(r.status), r.yaw ? deg_from_rad(angle_difference(*r.yaw, rad_from_deg(yaw_deg))) : NAN,
-                 r.yaw_std ? deg_from_rad(*r.yaw_std) : NAN, r.diagnostics.at("fit_formal_std_deg"),
-                 r.diagnostics.at("speed_scale"), r.diagnostics.at("speed_scale_std"), r.support.at("blocks"), r.diagnostics.at("residual_sigma_mps"), r.support.at("static_detections"));
-    }
-  }
+// Issue 12: the INS speed 2 % high (its velocities scaled by 1.02). The velocity method fits the
+// scale with the yaw: the yaw stays within 0.1 deg and the scale (true / INS speed) is reported
+// within 0.3 % of 1 / 1.02.
+TEST(RadarVelocityMethod, SpeedScaleErrorIsEstimatedNotPassedToTheYaw) {
+  const testing::RadarDrive& drive = testing::urban_radar_drive(3);
+  std::vector<io::InsRecord> ins = drive.simulation.ins;
+  for (io::InsRecord& record : ins) record.velocity_enu *= 1.02;
+  for (const double yaw_deg : {0.0, 25.0, 90.0, 180.0}) {
+    SCOPED_TRACE(::testing::Message() << "yaw " << yaw_deg << " deg");
+    const Eigen::Vector3d lever_arm = testing::radar_lever_arm_facing(yaw_deg);
+    const auto detections = testing::radar_detections_at(drive, lever_arm, yaw_deg,
+                                                         sim::RadarOptions::conti_ars408(), 3);
+    const CalibrationResult result =
+        calibrate_radar(detections, ins, options_for(RadarMethod::kVelocity, lever_arm));
+    ASSERT_TRUE(result.ok()) << result.reason;
+    EXPECT_LE(std::abs(error_deg(result, yaw_deg)), 0.1);
+    EXPECT_NEAR(result.diagnostics.at("speed_scale"), 1.0 / 1.02, 0.003 / 1.02);
+    EXPECT_GT(result.diagnostics.at("speed_scale_std"), 0.0);
   }
 }
 
-TEST(RadarVelocityExplore, NoiseSeeds) {
-  for (std::uint64_t drive_seed : {105, 109}) {
-  for (int kind = 0; kind < 3; ++kind) {
-    const double yaw_deg = drive_seed == 105 ? -25.0 : 180.0;
-    const testing::RadarDrive& drive = testing::urban_radar_drive(drive_seed, 20.0);
-    const Eigen::Vector3d lever = testing::radar_lever_arm_facing(yaw_deg);
-    sim::RadarOptions radar = sim::RadarOptions::conti_ars408();
-    if (kind == 1) radar.azimuth_sigma = rad_from_deg(0.6);
-    if (kind == 2) { radar.range_rate_sigma_mps = 0.2; radar.clutter_rate = 3.0; }
-    std::vector<double> errors, ses;
-    for (std::uint64_t seed = 1; seed <= 30; ++seed) {
-      auto detections = testing::radar_detections_at(drive, lever, yaw_deg, radar, seed);
-      RadarCalibrationOptions options;
-      options.method = RadarMethod::kVelocity;
-      options.lever_arm_in_vehicle = lever.head<2>();
-      const CalibrationResult r = calibrate_radar(detections, drive.simulation.ins, options);
-      if (!r.ok()) continue;
-      errors.push_back(deg_from_rad(angle_difference(*r.yaw, rad_from_deg(yaw_deg))));
-      ses.push_back(deg_from_rad(*r.yaw_std));
-    }
-    double m = 0, sd = 0, mse = 0;
-    for (double e : errors) m += e / errors.size();
-    for (double e : errors) sd += (e - m) * (e - m) / (errors.size() - 1);
-    for (double e : ses) mse += e / ses.size();
-    fmt::print("drive {} kind {} n {} mean err {:.4f} sd {:.4f} mean se {:.4f}\n", drive_seed, kind, errors.size(), m, std::sqrt(sd), mse);
+// The coarse search over the full circle on exact detections (a constructed straight drive past
+// posts on both sides): the grid value nearest the truth, at scale 1.
+TEST(RadarVelocityMethod, CoarseSearchCoversTheFullCircle) {
+  std::vector<testing::ConstructedTarget> posts;
+  for (int k = 0; k < 40; ++k) {
+    posts.push_back({.position = {-60.0 + 10.0 * k, (k % 2 == 0 ? 6.0 : -8.0)},
+                     .track_id = k,
+                     .min_range = 2.0,
+                     .max_range = 60.0});
   }
+  for (const double yaw_deg : {0.0, 90.0, 180.0, -135.0}) {
+    SCOPED_TRACE(::testing::Message() << "yaw " << yaw_deg << " deg");
+    const testing::ConstructedRadarDrive drive =
+        testing::constructed_radar_drive(10.0, 20.0, rad_from_deg(yaw_deg), posts);
+    RadarEgoMotion motion =
+        radar_ego_motion(drive.detections, drive.ins, testing::kRadarLeverArm.head<2>());
+    const RadarVelocityMethodOptions options;
+    const CoarseSearch coarse = coarse_yaw_search(motion.samples, options);
+    EXPECT_NEAR(deg_from_rad(angle_difference(coarse.yaw, rad_from_deg(yaw_deg))), 0.0,
+                deg_from_rad(options.search_step));
+    EXPECT_DOUBLE_EQ(coarse.speed_scale, 1.0);
+    EXPECT_EQ(coarse.consistent, static_cast<std::int64_t>(motion.samples.size()));
   }
 }
+
+// The refinement stays in the coarse optimum's basin: started 30 deg off with a 10 deg bound it
+// ends on the bound, and the result says so instead of wandering.
+TEST(RadarVelocityMethod, RefinementStaysInItsBasin) {
+  const testing::RadarDrive& drive = testing::urban_radar_drive(1);
+  const auto detections = testing::radar_detections_at(drive, testing::kRadarLeverArm, 0.0,
+                                                       sim::RadarOptions::conti_ars408(), 1);
+  const RadarEgoMotion motion =
+      radar_ego_motion(detections, drive.simulation.ins, testing::kRadarLeverArm.head<2>());
+  RadarVelocityMethodOptions options;
+  options.coarse_tolerance_mps = 5.0;  // a first selection wide enough to pull the fit
+  const VelocityFit fit =
+      refine_yaw(motion.samples, {.yaw = rad_from_deg(30.0), .speed_scale = 1.0}, options);
+  EXPECT_TRUE(fit.at_move_bound);
+  EXPECT_NEAR(deg_from_rad(fit.model.yaw), 20.0, 1e-6);
+}
+
+TEST(RadarVelocityMethod, StudentTFactor) {
+  EXPECT_NEAR(student_t_factor(1), 12.706 / 1.959964, 1e-3);
+  EXPECT_NEAR(student_t_factor(5), 2.571 / 1.959964, 1e-3);
+  EXPECT_NEAR(student_t_factor(60), 2.000 / 1.959964, 2e-3);
+  EXPECT_NEAR(student_t_factor(100000), 1.0, 1e-4);
+}
+
+// Too few time blocks for a standard error is insufficient data, not a guess: 2.6 s of radar lie in
+// one 3 s block.
+TEST(RadarVelocityMethod, TooShortForAStandardErrorIsInsufficientData) {
+  const testing::RadarDrive& drive = testing::urban_radar_drive(1);
+  auto detections = testing::radar_detections_at(drive, testing::kRadarLeverArm, 5.0,
+                                                 sim::RadarOptions::conti_ars408(), 1);
+  std::erase_if(detections, [](const io::RadarDetection& d) { return d.time < 21.2 || d.time > 23.8; });
+  RadarCalibrationOptions options = options_for(RadarMethod::kVelocity, testing::kRadarLeverArm);
+  options.velocity.block_s = 3.0;
+  options.velocity.min_blocks = 3;
+  const CalibrationResult result = calibrate_radar(detections, drive.simulation.ins, options);
+  EXPECT_EQ(result.status, CalibrationStatus::kInsufficientData) << result.reason;
+  EXPECT_THAT(result.reason, HasSubstr("time blocks"));
+}
+
 }  // namespace
 }  // namespace x2car::radar
