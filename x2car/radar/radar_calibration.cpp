@@ -84,6 +84,7 @@ void RadarVelocityMethodOptions::Check() const {
   check.in_range("search_half_range", search_half_range, 0.0, kPi, Bounds::kOpenMax);
   check.in_range("search_step", search_step, 0.0, kPi / 4.0, Bounds::kOpenMin);
   check.positive("coarse_tolerance_mps", coarse_tolerance_mps);
+  check.at_least("max_coarse_detections", max_coarse_detections, 1);
   check.positive("max_refinement_move", max_refinement_move);
   check.positive("gate_sigmas", gate_sigmas);
   check.positive("min_gate_mps", min_gate_mps);

@@ -63,6 +63,8 @@ struct RadarVelocityMethodOptions {
   // A detection counts as consistent with the static model in the coarse search within this
   // range-rate tolerance; wide enough for half a scale step of model error at urban speeds [m/s].
   double coarse_tolerance_mps = 0.5;
+  // The coarse search counts every k-th detection when there are more than this.
+  int max_coarse_detections = 20000;
   // The refinement stays in the coarse optimum's basin: psi may move at most this far from it;
   // a fit that ends on this bound is unreliable [rad].
   double max_refinement_move = rad_from_deg(10.0);

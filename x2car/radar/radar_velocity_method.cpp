@@ -119,9 +119,14 @@ CoarseSearch coarse_yaw_search(std::span<const RadarSample> samples,
     if (from_prior != best_from_prior) return from_prior < best_from_prior;
     return std::abs(candidate.speed_scale - 1.0) < std::abs(best.speed_scale - 1.0);
   };
+  // Every k-th detection: the top of the histogram needs thousands, not all.
+  std::vector<RadarSample> thinned;
+  const std::size_t stride =
+      samples.size() / static_cast<std::size_t>(options.max_coarse_detections) + 1;
+  for (std::size_t i = 0; i < samples.size(); i += stride) thinned.push_back(samples[i]);
   for (const double scale : speed_scale_grid(options)) {
     const std::vector<int> counts =
-        consistent_counts(samples, grid, scale, options.coarse_tolerance_mps);
+        consistent_counts(thinned, grid, scale, options.coarse_tolerance_mps);
     const int most = *std::max_element(counts.begin(), counts.end());
     // Each run of grid values with the most counts offers its middle: exact data fit over a
     // plateau of psi, and its middle is the best guess.
@@ -133,15 +138,16 @@ CoarseSearch coarse_yaw_search(std::span<const RadarSample> samples,
         ++end;
       }
       const CoarseSearch candidate{wrap_angle(grid.first + 0.5 * (k + end) * grid.step), scale,
-                                   most};
+                                   most, 0};
       if (better(candidate)) best = candidate;
     }
     if (circle && most == at(-1) && std::all_of(counts.begin(), counts.end(),
                                                 [&](int count) { return count == most; })) {
-      const CoarseSearch candidate{prior, scale, most};  // no information at all
+      const CoarseSearch candidate{prior, scale, most, 0};  // no information at all
       if (better(candidate)) best = candidate;
     }
   }
+  best.counted = static_cast<std::int64_t>(thinned.size());
   return best;
 }
 
@@ -307,7 +313,8 @@ CalibrationResult velocity_method_result(const RadarVelocityEstimate& estimate) 
       {"coarse_yaw_deg", deg_from_rad(estimate.coarse.yaw)},
       {"coarse_speed_scale", estimate.coarse.speed_scale},
       {"coarse_consistent_fraction",
-       static_cast<double>(estimate.coarse.consistent) / static_cast<double>(estimate.detections)},
+       static_cast<double>(estimate.coarse.consistent) /
+           static_cast<double>(std::max<std::int64_t>(estimate.coarse.counted, 1))},
       {"fit_formal_std_deg", deg_from_rad(estimate.formal_yaw_std)},
       {"residual_sigma_mps", fit.residual_sigma_mps},
       {"residual_sigma_limit_mps", checks.residual_sigma_limit_mps},

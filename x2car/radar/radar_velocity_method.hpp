@@ -31,6 +31,7 @@ struct CoarseSearch {
   double yaw = 0.0;             // grid value with the most consistent detections [rad]
   double speed_scale = 1.0;     // the scale it was found at [-]
   std::int64_t consistent = 0;  // how many
+  std::int64_t counted = 0;     // of how many (every k-th detection, max_coarse_detections)
 };
 
 // "Course Calibration": psi on a grid of search_step over the full circle (or nominal_yaw +- A),
