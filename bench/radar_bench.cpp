@@ -115,8 +115,8 @@ void BM_RadarDirections(benchmark::State& state) {
       max_error_over_std = std::max(max_error_over_std, error / *result.yaw_std);
     }
   }
-  state.SetLabel(fmt::format("yaw {:g} deg, {}, urban 60 s, seeds 1-5", yaw_deg,
-                             radar::to_string(method)));
+  state.SetLabel(
+      fmt::format("yaw {:g} deg, {}, urban 60 s, seeds 1-5", yaw_deg, radar::to_string(method)));
   state.counters["max_err_deg"] = max_error;
   state.counters["max_err_over_std"] = max_error_over_std;
   state.counters["not_ok"] = not_ok;

@@ -52,8 +52,8 @@ int run() {
         const Eigen::Vector3d lever_arm = sim::testing::radar_lever_arm_facing(yaw_deg);
         // Each radar draws its own noise: runs on one drive are independent.
         const std::uint64_t noise_seed = 10 * drive_seed + kind_index;
-        const auto detections = sim::testing::radar_detections_at(drive, lever_arm, yaw_deg,
-                                                                  kind.options, noise_seed);
+        const auto detections =
+            sim::testing::radar_detections_at(drive, lever_arm, yaw_deg, kind.options, noise_seed);
         radar::RadarCalibrationOptions options;
         options.lever_arm_in_vehicle = lever_arm.head<2>();
         const std::string label =
@@ -69,8 +69,7 @@ int run() {
             refused += method == radar::RadarMethod::kVelocity ? 1 : 0;
             continue;
           }
-          const double error =
-              deg_from_rad(angle_difference(*result.yaw, rad_from_deg(yaw_deg)));
+          const double error = deg_from_rad(angle_difference(*result.yaw, rad_from_deg(yaw_deg)));
           (method == radar::RadarMethod::kVelocity ? velocity_runs : auto_runs)
               .push_back({label, error, deg_from_rad(*result.yaw_std)});
         }

@@ -40,9 +40,8 @@ CalibrationResult choose_radar_method(CalibrationResult velocity, CalibrationRes
     // A fit that failed its checks keeps its figures for inspection; nothing is ok.
     CalibrationResult result =
         any_unreliable
-            ? mark_unreliable(velocity.status == CalibrationStatus::kUnreliable ? velocity
-                                                                                : position,
-                              reason)
+            ? mark_unreliable(
+                  velocity.status == CalibrationStatus::kUnreliable ? velocity : position, reason)
             : insufficient_data("radar", reason);
     result.method = "auto";
     add_method_summary(result, velocity);
@@ -53,8 +52,7 @@ CalibrationResult choose_radar_method(CalibrationResult velocity, CalibrationRes
     CalibrationResult& chosen = velocity.ok() ? velocity : position;
     const CalibrationResult& other = velocity.ok() ? position : velocity;
     chosen.reason = fmt::format("auto: only the {} method found a yaw ({} method, {}: {})",
-                                chosen.method, other.method, to_string(other.status),
-                                other.reason);
+                                chosen.method, other.method, to_string(other.status), other.reason);
     CalibrationResult result = chosen;
     add_method_summary(result, velocity);
     add_method_summary(result, position);

@@ -72,8 +72,8 @@ TEST(RadarAuto, UnreliableIsNeverOk) {
   const CalibrationResult unreliable_velocity =
       mark_unreliable(method_result("velocity", 190.0, 0.03, 0), "the fit fails its checks");
   // The other method ok: that one, naming the failure.
-  CalibrationResult chosen = choose_radar_method(
-      unreliable_velocity, method_result("position", 10.0, 0.05, 50), options);
+  CalibrationResult chosen =
+      choose_radar_method(unreliable_velocity, method_result("position", 10.0, 0.05, 50), options);
   EXPECT_TRUE(chosen.ok());
   EXPECT_EQ(chosen.method, "position");
   EXPECT_THAT(chosen.reason, HasSubstr("unreliable"));

@@ -98,8 +98,8 @@ struct RadarVelocityMethodOptions {
   double min_yaw_std = rad_from_deg(0.001);  // [rad]
 
   // Per-window fits (the window_yaw series and the agreement check).
-  double window_s = 10.0;      // [s]
-  int min_window_points = 50;  // static detections a window needs to count
+  double window_s = 10.0;       // [s]
+  int min_window_points = 50;   // static detections a window needs to count
   int min_static_points = 100;  // fewer static detections: insufficient data
 
   // Checks of the fit (docs/methods.md "Checks"); a failed one makes the result unreliable.
@@ -119,8 +119,8 @@ struct RadarVelocityMethodOptions {
   // more often than where the opposite motion would (a flipped range-rate sign fits the cosine
   // at psi + 180 deg exactly; only the positions tell). Checked when at least
   // min_displacement_tests static detections have a later scan to be found in.
-  double displacement_horizon_s = 0.5;      // [s]
-  double displacement_gate_m = 1.0;         // [m]
+  double displacement_horizon_s = 0.5;       // [s]
+  double displacement_gate_m = 1.0;          // [m]
   double displacement_gate_fraction = 0.01;  // of the range [-]
   int min_displacement_tests = 50;
   int max_displacement_tests = 20000;  // more static detections: every k-th is tested

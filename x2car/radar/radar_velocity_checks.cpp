@@ -106,9 +106,9 @@ VelocityChecks check_velocity_fit(const VelocityCheckInputs& inputs,
         options.max_residual_sigma_mps));
   }
   if (checks.static_fraction < options.min_static_fraction) {
-    checks.failures.push_back(fmt::format("only {} of the detections fit the static model (need {})",
-                                          percent(checks.static_fraction),
-                                          percent(options.min_static_fraction)));
+    checks.failures.push_back(
+        fmt::format("only {} of the detections fit the static model (need {})",
+                    percent(checks.static_fraction), percent(options.min_static_fraction)));
   }
   const double scale = inputs.model.speed_scale;
   if (scale < options.min_speed_scale || scale > options.max_speed_scale) {

@@ -99,9 +99,8 @@ VelocityCovariance velocity_covariance(std::span<const RadarSample> samples,
     const VelocityResidual r = velocity_residual(samples[i], model);
     const Eigen::Vector2d jacobian(r.d_yaw, estimate_speed_scale ? r.d_speed_scale : 0.0);
     const double weight = huber_weight(r.value, huber_width_mps);
-    covariance.information +=
-        weight * Eigen::Vector2d(r.d_yaw, r.d_speed_scale) *
-        Eigen::Vector2d(r.d_yaw, r.d_speed_scale).transpose();
+    covariance.information += weight * Eigen::Vector2d(r.d_yaw, r.d_speed_scale) *
+                              Eigen::Vector2d(r.d_yaw, r.d_speed_scale).transpose();
     const auto block = static_cast<std::int64_t>(std::floor(samples[i].time / block_s));
     auto [entry, inserted] = block_gradients.try_emplace(block, Eigen::Vector2d::Zero());
     entry->second += weight * r.value * jacobian;

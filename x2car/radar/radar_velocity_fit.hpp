@@ -24,8 +24,8 @@ struct VelocityModel {
 
 // Residual measured - predicted range rate [m/s] and its derivatives by psi and s.
 struct VelocityResidual {
-  double value = 0.0;        // [m/s]
-  double d_yaw = 0.0;        // [m/s/rad]
+  double value = 0.0;          // [m/s]
+  double d_yaw = 0.0;          // [m/s/rad]
   double d_speed_scale = 0.0;  // [m/s]
 };
 
@@ -41,8 +41,8 @@ Eigen::Vector2d scaled_radar_velocity(const RadarSample& sample, double speed_sc
 struct GaussNewtonSettings {
   double huber_width_mps = 0.15;  // [m/s]
   bool estimate_speed_scale = true;
-  double anchor_yaw = 0.0;  // [rad]
-  double max_move = 0.0;    // [rad]; 0 = unbounded
+  double anchor_yaw = 0.0;    // [rad]
+  double max_move = 0.0;      // [rad]; 0 = unbounded
   double convergence = 1e-7;  // [rad]
   int max_steps = 10;
 };
@@ -53,13 +53,14 @@ bool gauss_newton_velocity(std::span<const RadarSample> samples, std::span<const
 // The fit's covariance two ways, at `model`, for the samples with mask[i] != 0:
 //   formal: sigma^2 H^-1 with H = sum w J J^T, sigma the robust sigma of the residuals (detections
 //           independent);
-//   sandwich: H^-1 (B / (B - 1) sum_b g_b g_b^T) H^-1 with g_b = sum_{i in block b} w_i J_i r_i over
+//   sandwich: H^-1 (B / (B - 1) sum_b g_b g_b^T) H^-1 with g_b = sum_{i in block b} w_i J_i r_i
+//   over
 //           B time blocks of `block_s` (a detection's error may share its block's: one target seen
 //           over seconds, a speed error): the linearised block bootstrap.
 struct VelocityCovariance {
-  Eigen::Matrix2d formal = Eigen::Matrix2d::Zero();    // (psi, s) [rad^2, rad, 1]
-  Eigen::Matrix2d sandwich = Eigen::Matrix2d::Zero();  // idem
-  Eigen::Matrix2d information = Eigen::Matrix2d::Zero();  // H, unfixed (both parameters) 
+  Eigen::Matrix2d formal = Eigen::Matrix2d::Zero();       // (psi, s) [rad^2, rad, 1]
+  Eigen::Matrix2d sandwich = Eigen::Matrix2d::Zero();     // idem
+  Eigen::Matrix2d information = Eigen::Matrix2d::Zero();  // H, unfixed (both parameters)
   double residual_sigma_mps = 0.0;
   int blocks = 0;  // non-empty time blocks
 };

@@ -29,8 +29,8 @@ YawGrid yaw_grid(const RadarVelocityMethodOptions& options) {
 
 // Adds 1 to the grid values within psi in [from, from + length] (a circular arc).
 void add_arc(const YawGrid& grid, double from, double length, std::vector<int>& difference) {
-  const double start = grid.first + std::fmod(std::fmod(from - grid.first, 2.0 * kPi) + 2.0 * kPi,
-                                              2.0 * kPi);
+  const double start =
+      grid.first + std::fmod(std::fmod(from - grid.first, 2.0 * kPi) + 2.0 * kPi, 2.0 * kPi);
   for (const double shift : {0.0, -2.0 * kPi}) {
     const double a = (start + shift - grid.first) / grid.step;
     const double b = (start + shift + length - grid.first) / grid.step;
@@ -70,9 +70,8 @@ std::vector<int> consistent_counts(std::span<const RadarSample> samples, const Y
 std::vector<double> speed_scale_grid(const RadarVelocityMethodOptions& options) {
   if (!options.estimate_speed_scale) return {1.0};
   std::vector<double> scales;
-  const int steps = static_cast<int>(
-      std::floor((options.max_speed_scale - options.min_speed_scale) / options.coarse_scale_step +
-                 1e-9));
+  const int steps = static_cast<int>(std::floor(
+      (options.max_speed_scale - options.min_speed_scale) / options.coarse_scale_step + 1e-9));
   for (int k = 0; k <= steps; ++k) {
     scales.push_back(options.min_speed_scale + k * options.coarse_scale_step);
   }
@@ -130,7 +129,9 @@ CoarseSearch coarse_yaw_search(std::span<const RadarSample> samples,
     const int most = *std::max_element(counts.begin(), counts.end());
     // Each run of grid values with the most counts offers its middle: exact data fit over a
     // plateau of psi, and its middle is the best guess.
-    const auto at = [&](int k) { return counts[static_cast<std::size_t>((k + grid.size) % grid.size)]; };
+    const auto at = [&](int k) {
+      return counts[static_cast<std::size_t>((k + grid.size) % grid.size)];
+    };
     for (int k = 0; k < grid.size; ++k) {
       if (at(k) != most || (circle ? at(k - 1) == most : k > 0 && at(k - 1) == most)) continue;
       int end = k;
@@ -141,8 +142,8 @@ CoarseSearch coarse_yaw_search(std::span<const RadarSample> samples,
                                    most, 0};
       if (better(candidate)) best = candidate;
     }
-    if (circle && most == at(-1) && std::all_of(counts.begin(), counts.end(),
-                                                [&](int count) { return count == most; })) {
+    if (circle && most == at(-1) &&
+        std::all_of(counts.begin(), counts.end(), [&](int count) { return count == most; })) {
       const CoarseSearch candidate{prior, scale, most, 0};  // no information at all
       if (better(candidate)) best = candidate;
     }
@@ -183,8 +184,8 @@ VelocityFit refine_yaw(std::span<const RadarSample> samples, const CoarseSearch&
   }
   fit.iterations = std::min(fit.iterations, options.max_iterations);
   fit.static_count = std::count(fit.static_mask.begin(), fit.static_mask.end(), 1);
-  fit.at_move_bound = std::abs(angle_difference(fit.model.yaw, coarse.yaw)) >=
-                      options.max_refinement_move - 1e-9;
+  fit.at_move_bound =
+      std::abs(angle_difference(fit.model.yaw, coarse.yaw)) >= options.max_refinement_move - 1e-9;
   fit.ok = std::isfinite(fit.model.yaw) && std::isfinite(fit.model.speed_scale);
   return fit;
 }
@@ -205,8 +206,8 @@ WindowEstimates window_estimates(std::span<const RadarSample> samples,
   for (const auto& [index, window] : windows) {
     if (static_cast<int>(window.size()) < options.min_window_points) continue;
     VelocityModel window_model = model;
-    const std::vector<double> start = masked_residuals(
-        window, std::vector<std::uint8_t>(window.size(), 1), window_model);
+    const std::vector<double> start =
+        masked_residuals(window, std::vector<std::uint8_t>(window.size(), 1), window_model);
     const double width = options.huber_sigmas * std::max(robust_sigma(start), 1e-3);
     const GaussNewtonSettings settings{.huber_width_mps = width,
                                        .estimate_speed_scale = options.estimate_speed_scale,
@@ -269,12 +270,12 @@ RadarVelocityEstimate estimate_yaw_by_velocity(std::span<const RadarSample> samp
           : std::abs(information(0, 1) / information(0, 0)) * options.speed_scale_sigma;
   estimate.yaw_std =
       std::max({block_yaw_std, estimate.formal_yaw_std, scale_floor, options.min_yaw_std});
-  estimate.speed_scale_std =
-      options.estimate_speed_scale
-          ? std::max(std::sqrt(covariance.sandwich(1, 1)) * t_factor,
-                     std::sqrt(covariance.formal(1, 1)))
-          : 0.0;
-  const double inflation = std::max(1.0, estimate.yaw_std / std::max(estimate.formal_yaw_std, 1e-12));
+  estimate.speed_scale_std = options.estimate_speed_scale
+                                 ? std::max(std::sqrt(covariance.sandwich(1, 1)) * t_factor,
+                                            std::sqrt(covariance.formal(1, 1)))
+                                 : 0.0;
+  const double inflation =
+      std::max(1.0, estimate.yaw_std / std::max(estimate.formal_yaw_std, 1e-12));
   estimate.windows = window_estimates(samples, fit.static_mask, fit.model, inflation, options);
   estimate.checks = check_velocity_fit({.samples = samples,
                                         .static_mask = fit.static_mask,

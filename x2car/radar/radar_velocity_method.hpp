@@ -48,7 +48,7 @@ struct VelocityFit {
   VelocityModel model;
   double residual_sigma_mps = 0.0;  // robust sigma of the selected residuals [m/s]
   int iterations = 0;
-  bool at_move_bound = false;  // psi ended max_refinement_move from the coarse optimum
+  bool at_move_bound = false;             // psi ended max_refinement_move from the coarse optimum
   std::vector<std::uint8_t> static_mask;  // per sample: 1 = selected as static
   std::int64_t static_count = 0;
 };

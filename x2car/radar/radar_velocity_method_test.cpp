@@ -67,9 +67,9 @@ TEST(RadarVelocityMethod, DegreesOrAFlippedDopplerAreNeverOk) {
         }
       }
       for (const RadarMethod method : {RadarMethod::kVelocity, RadarMethod::kAuto}) {
-        SCOPED_TRACE(::testing::Message() << "yaw " << yaw_deg << " deg, "
-                                          << (degrees ? "degrees" : "flipped sign") << ", "
-                                          << to_string(method));
+        SCOPED_TRACE(::testing::Message()
+                     << "yaw " << yaw_deg << " deg, " << (degrees ? "degrees" : "flipped sign")
+                     << ", " << to_string(method));
         const CalibrationResult result =
             calibrate_radar(wrong, drive.simulation.ins, options_for(method, lever_arm));
         EXPECT_FALSE(result.ok()) << result.reason;
@@ -87,8 +87,8 @@ TEST(RadarVelocityMethod, NominalYawConfinesTheSearch) {
   const testing::RadarDrive& drive = testing::urban_radar_drive(1);
   const double yaw_deg = 90.0;
   const Eigen::Vector3d lever_arm = testing::radar_lever_arm_facing(yaw_deg);
-  auto detections = testing::radar_detections_at(drive, lever_arm, yaw_deg,
-                                                 sim::RadarOptions::conti_ars408(), 1);
+  auto detections =
+      testing::radar_detections_at(drive, lever_arm, yaw_deg, sim::RadarOptions::conti_ars408(), 1);
   RadarCalibrationOptions options = options_for(RadarMethod::kVelocity, lever_arm);
   options.velocity.nominal_yaw = rad_from_deg(70.0);
   CalibrationResult result = calibrate_radar(detections, drive.simulation.ins, options);
@@ -174,7 +174,8 @@ TEST(RadarVelocityMethod, TooShortForAStandardErrorIsInsufficientData) {
   const testing::RadarDrive& drive = testing::urban_radar_drive(1);
   auto detections = testing::radar_detections_at(drive, testing::kRadarLeverArm, 5.0,
                                                  sim::RadarOptions::conti_ars408(), 1);
-  std::erase_if(detections, [](const io::RadarDetection& d) { return d.time < 21.2 || d.time > 23.8; });
+  std::erase_if(detections,
+                [](const io::RadarDetection& d) { return d.time < 21.2 || d.time > 23.8; });
   RadarCalibrationOptions options = options_for(RadarMethod::kVelocity, testing::kRadarLeverArm);
   options.velocity.block_s = 3.0;
   options.velocity.min_blocks = 3;

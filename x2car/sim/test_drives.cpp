@@ -100,7 +100,8 @@ Eigen::Vector3d radar_lever_arm_facing(double yaw_deg) {
   const double dy = std::sin(rad_from_deg(yaw_deg));
   // The smallest positive distance at which the ray meets an edge of the outline.
   double distance = 1e9;
-  if (std::abs(dx) > 1e-12) distance = std::min(distance, (dx > 0 ? kFront - centre : centre - kRear) / std::abs(dx));
+  if (std::abs(dx) > 1e-12)
+    distance = std::min(distance, (dx > 0 ? kFront - centre : centre - kRear) / std::abs(dx));
   if (std::abs(dy) > 1e-12) distance = std::min(distance, kHalfWidth / std::abs(dy));
   return {centre + distance * dx, distance * dy, 0.5};
 }
