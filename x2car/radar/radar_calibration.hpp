@@ -11,14 +11,14 @@
 // non-holonomic constraint; radar_ego_motion.hpp).
 //
 // Velocity method (the paper's primary): keep detections taken while the car moves at least
-// min_speed_mps (and, without the radar's lever arm, while it does not turn); coarse search of psi
-// over [-A, A] in steps, counting detections within coarse_tolerance_mps of the static model; then
-// iterate: select the detections consistent with the static model under the current psi (an
-// adaptive k-sigma gate), fit psi by Gauss-Newton with Huber weights, until psi stops moving.
-// Per-window fits on the selected detections give the spread: the reported yaw is the global fit
-// and its standard error comes from the inverse-variance weighted spread of the window estimates
-// (windows rejected by median/MAD), never below the least-squares standard error; with fewer than
-// min_windows_for_spread windows, from the least-squares covariance alone.
+// min_speed_mps (and, without the radar's lever arm, while it does not turn); coarse search of
+// (psi, speed scale s) over the full circle (or around nominal_yaw), counting detections within
+// coarse_tolerance_mps of the static model; then iterate: select the detections consistent with
+// the static model (an adaptive k-sigma gate), fit (psi, s) by Gauss-Newton with Huber weights
+// within max_refinement_move of the coarse optimum, until they stop moving. The standard error is
+// block-clustered over time (correlated detections) with a Student-t factor; the fit's checks
+// (residual spread, static fraction, speed scale, basin, windows, static targets moving as fitted)
+// make a failed fit `unreliable` (radar_velocity_checks.hpp, docs/methods.md).
 //
 // Position method (the paper's refinement for noisy radars; radar_position_method.hpp): on straight
 // stretches, detections grouped into objects by track id; objects whose range/azimuth history is a
@@ -220,8 +220,9 @@ struct RadarCalibrationOptions {
 
 // `detections` with times on the INS clock (radar_to_ins_time_offset), `ins` with strictly
 // increasing times. Detections outside the INS span, or in a gap of it, are dropped and counted
-// (rejections["outside_ins_span"], ["in_ins_gap"]). Returns an ok result or insufficient_data with
-// a reason, never NaN angles; throws std::invalid_argument only on invalid options.
+// (rejections["outside_ins_span"], ["in_ins_gap"]). Returns an ok result, insufficient_data with a
+// reason, or unreliable with the failed checks (the estimate kept for inspection), never NaN
+// angles; throws std::invalid_argument only on invalid options.
 CalibrationResult calibrate_radar(std::span<const io::RadarDetection> detections,
                                   std::span<const io::InsRecord> ins,
                                   const RadarCalibrationOptions& options = {});
