@@ -1,11 +1,16 @@
 // Radar calibrator: accuracy against the simulator's ground truth (issue 6: truth yaw 0, 10, 20 and
 // -7 deg, urban 60 s, seeds 1-5, Conti and Delphi layouts; velocity method |error| <= 0.1 deg,
-// position method <= 0.2 deg) and speed on 10 minutes of radar (issue 6: <= 0.5 s, both methods).
+// position method <= 0.2 deg), speed on 10 minutes of radar (issue 6: <= 0.5 s, both methods),
+// radars in every direction (issue 12: 0, +-25, +-85, +-90, 180 deg, 5 seeds, within 0.1 deg) and
+// the bias table of docs/methods.md (issue 12: how far a speed scale, a time offset, a wrong lever
+// arm or the azimuth convention move the velocity method's yaw).
 #include <benchmark/benchmark.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "x2car/radar/radar_calibration.hpp"
 #include "x2car/sim/radar_model.hpp"
@@ -78,6 +83,153 @@ BENCHMARK(BM_RadarAccuracy)
                    {static_cast<int>(radar::RadarMethod::kVelocity),
                     static_cast<int>(radar::RadarMethod::kPosition),
                     static_cast<int>(radar::RadarMethod::kAuto)}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+
+// Issue 12: a radar facing `yaw_deg` at a plausible lever arm (radar_lever_arm_facing), seeds 1-5,
+// urban 60 s, Conti-like. Args: the direction [deg], the method (1 velocity, 0 auto). Counters:
+// the largest |error| over the seeds [deg], the largest |error| / SE, runs not ok.
+void BM_RadarDirections(benchmark::State& state) {
+  const auto yaw_deg = static_cast<double>(state.range(0));
+  const auto method = static_cast<radar::RadarMethod>(state.range(1));
+  double max_error = 0.0;
+  double max_error_over_std = 0.0;
+  int not_ok = 0;
+  for (auto _ : state) {
+    for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+      const sim::testing::RadarDrive& drive = sim::testing::urban_radar_drive(seed, 60.0);
+      const Eigen::Vector3d lever_arm = sim::testing::radar_lever_arm_facing(yaw_deg);
+      const auto detections = sim::testing::radar_detections_at(
+          drive, lever_arm, yaw_deg, sim::RadarOptions::conti_ars408(), seed);
+      radar::RadarCalibrationOptions options;
+      options.method = method;
+      options.lever_arm_in_vehicle = lever_arm.head<2>();
+      const CalibrationResult result =
+          radar::calibrate_radar(detections, drive.simulation.ins, options);
+      if (!result.ok()) {
+        ++not_ok;
+        continue;
+      }
+      const double error = std::abs(angle_difference(*result.yaw, rad_from_deg(yaw_deg)));
+      max_error = std::max(max_error, deg_from_rad(error));
+      max_error_over_std = std::max(max_error_over_std, error / *result.yaw_std);
+    }
+  }
+  state.SetLabel(
+      fmt::format("yaw {:g} deg, {}, urban 60 s, seeds 1-5", yaw_deg, radar::to_string(method)));
+  state.counters["max_err_deg"] = max_error;
+  state.counters["max_err_over_std"] = max_error_over_std;
+  state.counters["not_ok"] = not_ok;
+}
+BENCHMARK(BM_RadarDirections)
+    ->ArgsProduct({{0, 25, -25, 85, -85, 90, -90, 180},
+                   {static_cast<int>(radar::RadarMethod::kVelocity),
+                    static_cast<int>(radar::RadarMethod::kAuto)}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+
+// The biases of docs/methods.md's table, each applied to the same data.
+enum class RadarBias {
+  kSpeedScaleFitted,  // GNSS/INS speed 1.5 % high, the scale fitted with the yaw (the default)
+  kSpeedScaleHeld,    // the same, the scale held at 1
+  kTimeOffset,        // radar stamps 50 ms late against the GNSS/INS
+  kLeverArmX,         // the lever arm given 0.5 m too far forward
+  kLeverArmY,         // the lever arm given 0.5 m too far left
+  kNoLeverArm,        // no lever arm given (turns gated out)
+  kAzimuthClockwise,  // azimuths counted clockwise (y to the right)
+};
+
+const char* bias_name(RadarBias bias) {
+  switch (bias) {
+    case RadarBias::kSpeedScaleFitted:
+      return "speed +1.5 %, scale fitted";
+    case RadarBias::kSpeedScaleHeld:
+      return "speed +1.5 %, scale held at 1";
+    case RadarBias::kTimeOffset:
+      return "radar time +50 ms";
+    case RadarBias::kLeverArmX:
+      return "lever arm x +0.5 m";
+    case RadarBias::kLeverArmY:
+      return "lever arm y +0.5 m";
+    case RadarBias::kNoLeverArm:
+      return "no lever arm";
+    case RadarBias::kAzimuthClockwise:
+      return "azimuth clockwise";
+  }
+  return "";
+}
+
+// Args: the bias, the direction [deg]. Counters: the mean and largest shift of the velocity
+// method's yaw over seeds 1-5 against the same data without the bias [deg] (urban 60 s, Conti),
+// and how many biased runs were refused (not ok).
+void BM_RadarBias(benchmark::State& state) {
+  const auto bias = static_cast<RadarBias>(state.range(0));
+  const auto yaw_deg = static_cast<double>(state.range(1));
+  std::vector<double> shifts;
+  int refused = 0;
+  for (auto _ : state) {
+    for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+      const sim::testing::RadarDrive& drive = sim::testing::urban_radar_drive(seed, 60.0);
+      const Eigen::Vector3d lever_arm = sim::testing::radar_lever_arm_facing(yaw_deg);
+      auto detections = sim::testing::radar_detections_at(drive, lever_arm, yaw_deg,
+                                                          sim::RadarOptions::conti_ars408(), seed);
+      radar::RadarCalibrationOptions options;
+      options.method = radar::RadarMethod::kVelocity;
+      options.lever_arm_in_vehicle = lever_arm.head<2>();
+      const CalibrationResult plain =
+          radar::calibrate_radar(detections, drive.simulation.ins, options);
+      std::vector<io::InsRecord> ins = drive.simulation.ins;
+      switch (bias) {
+        case RadarBias::kSpeedScaleHeld:
+          options.velocity.estimate_speed_scale = false;
+          [[fallthrough]];
+        case RadarBias::kSpeedScaleFitted:
+          for (io::InsRecord& record : ins) record.velocity_enu *= 1.015;
+          break;
+        case RadarBias::kTimeOffset:
+          for (io::RadarDetection& detection : detections) detection.time += 0.05;
+          break;
+        case RadarBias::kLeverArmX:
+          options.lever_arm_in_vehicle->x() += 0.5;
+          break;
+        case RadarBias::kLeverArmY:
+          options.lever_arm_in_vehicle->y() += 0.5;
+          break;
+        case RadarBias::kNoLeverArm:
+          options.lever_arm_in_vehicle.reset();
+          break;
+        case RadarBias::kAzimuthClockwise:
+          for (io::RadarDetection& detection : detections) {
+            detection.azimuth = -detection.azimuth;
+            detection.y = -detection.y;
+          }
+          break;
+      }
+      const CalibrationResult biased = radar::calibrate_radar(detections, ins, options);
+      if (!plain.ok()) {
+        state.SkipWithError(plain.reason.c_str());
+        return;
+      }
+      if (!biased.ok()) {  // refused: the bias is caught by a check
+        ++refused;
+        continue;
+      }
+      shifts.push_back(deg_from_rad(angle_difference(*biased.yaw, *plain.yaw)));
+    }
+  }
+  double mean = 0.0;
+  double largest = 0.0;
+  for (const double shift : shifts) {
+    mean += shift / static_cast<double>(shifts.size());
+    largest = std::max(largest, std::abs(shift));
+  }
+  state.SetLabel(fmt::format("{}, yaw {:g} deg", bias_name(bias), yaw_deg));
+  state.counters["mean_shift_deg"] = mean;
+  state.counters["max_abs_shift_deg"] = largest;
+  state.counters["refused"] = refused;
+}
+BENCHMARK(BM_RadarBias)
+    ->ArgsProduct({{0, 1, 2, 3, 4, 5, 6}, {0, 25, 90, 180}})
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 

@@ -26,6 +26,7 @@ struct CalibrateRadarArguments {
   std::optional<std::string> method;
   std::vector<double> lever_arm_m;  // x y of the radar on the car [m], optional
   std::optional<double> min_speed_mps;
+  std::optional<double> nominal_yaw_deg;  // the mounting as designed [deg], optional
   OutputArguments output;
 };
 
@@ -37,6 +38,9 @@ radar::RadarCalibrationOptions calibration_options(const CalibrateRadarArguments
         Eigen::Vector2d(arguments.lever_arm_m[0], arguments.lever_arm_m[1]);
   }
   if (arguments.min_speed_mps) options.min_speed_mps = *arguments.min_speed_mps;
+  if (arguments.nominal_yaw_deg) {
+    options.velocity.nominal_yaw = rad_from_deg(*arguments.nominal_yaw_deg);
+  }
   return options;
 }
 
@@ -121,12 +125,23 @@ RunCommand setup_calibrate_radar_command(CLI::App& command) {
   command.add_option("--min-speed", arguments->min_speed_mps, "Slower samples are not used [m/s]")
       ->check(positive_number())
       ->default_str(fmt::format("{:g}", radar::RadarCalibrationOptions{}.min_speed_mps));
+  command
+      .add_option("--nominal-yaw,--nominal-yaw-deg", arguments->nominal_yaw_deg,
+                  fmt::format("The radar's yaw as designed [deg] (0 ahead, 90 left, 180 behind); "
+                              "the velocity method then searches within +-{:g} deg of it instead "
+                              "of the full circle",
+                              deg_from_rad(radar::RadarVelocityMethodOptions{}.search_half_range)))
+      ->type_name("DEG")
+      ->check(CLI::Range(-360.0, 360.0));
   add_output_options(command, arguments->output);
   command.footer(
       "Roll and pitch are not observable by a 2-D radar and are reported as null. The yaw is "
       "relative to the car's direction of motion. With --method auto the result's `method` names "
       "the method reported, its note says why, and `diagnostics`/`support` hold both methods' "
-      "yaw, standard error and support (velocity_*, position_*). See docs/methods.md.\n"
+      "yaw, standard error and support (velocity_*, position_*). The velocity method fits the "
+      "ego-speed scale with the yaw (printed; speed_scale in the JSON). A fit that fails its "
+      "checks (residuals against the nominal noise, static share, speed scale, windows, static "
+      "targets moving as fitted) is `unreliable`, exit code 1. See docs/methods.md.\n"
       "\n"
       "Example:\n"
       "  x2car calibrate radar --input drive/radar --ins drive/ins/novatel_enu.csv --out "

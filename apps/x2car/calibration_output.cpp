@@ -5,6 +5,7 @@
 
 #include <iostream>
 #include <optional>
+#include <string>
 
 #include "apps/x2car/exit_codes.hpp"
 #include "x2car/io/extrinsic_formats.hpp"
@@ -73,6 +74,15 @@ std::string format_result_summary(const CalibrationResult& result) {
   text += angle_line("roll", result.roll, result.roll_std, missing);
   text += angle_line("pitch", result.pitch, result.pitch_std, missing);
   text += angle_line("yaw", result.yaw, result.yaw_std, missing);
+  // The radar velocity method's ego-speed scale (true speed / the GNSS/INS speed).
+  for (const char* prefix : {"", "velocity_"}) {
+    const auto scale = result.diagnostics.find(std::string(prefix) + "speed_scale");
+    const auto scale_std = result.diagnostics.find(std::string(prefix) + "speed_scale_std");
+    if (scale == result.diagnostics.end() || scale_std == result.diagnostics.end()) continue;
+    text += fmt::format("  speed scale {:.4f} +- {:.4f} (true / GNSS/INS speed{})\n", scale->second,
+                        scale_std->second, *prefix ? ", velocity method" : "");
+    break;
+  }
   if (result.z) {
     text += fmt::format("  {:<6} {:9.4f} m    +- {:.4f} m\n", "z", *result.z,
                         result.z_std.value_or(0.0));

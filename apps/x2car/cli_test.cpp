@@ -507,6 +507,17 @@ TEST(CalibrateRadar, PositionAndAutoMethods) {
   ASSERT_EQ(automatic.exit_code, 0) << automatic.output;
   EXPECT_THAT(automatic.output, HasSubstr("note: auto: "));
   EXPECT_THAT(automatic.output, HasSubstr("reported the "));
+
+  // Issue 12: a prior on the yaw, and the ego-speed scale in the summary.
+  const auto velocity_json = folder / "velocity.json";
+  const CliRun velocity =
+      run_x2car(inputs + " --method velocity --nominal-yaw " + std::to_string(true_yaw_deg + 20.0) +
+                " --out " + velocity_json.string());
+  ASSERT_EQ(velocity.exit_code, 0) << velocity.output;
+  EXPECT_THAT(velocity.output, HasSubstr("speed scale "));
+  EXPECT_NEAR(number_after(io::read_text_file(velocity_json), "", "\"yaw_deg\""), true_yaw_deg,
+              0.2);
+  EXPECT_EQ(run_x2car(inputs + " --nominal-yaw 400").exit_code, 2);
 }
 
 }  // namespace

@@ -12,7 +12,8 @@ namespace {
 void add_method_summary(CalibrationResult& reported, const CalibrationResult& method) {
   const std::string prefix = method.method + "_";
   reported.diagnostics[prefix + "ok"] = method.ok() ? 1.0 : 0.0;
-  if (method.ok()) {
+  // An unreliable fit's figures too, for inspection (prefix_ok says it is not a mounting).
+  if (method.yaw && method.yaw_std) {
     reported.diagnostics[prefix + "yaw_deg"] = deg_from_rad(*method.yaw);
     reported.diagnostics[prefix + "std_deg"] = deg_from_rad(*method.yaw_std);
   }
@@ -32,9 +33,16 @@ std::int64_t support_of(const CalibrationResult& result, const std::string& name
 CalibrationResult choose_radar_method(CalibrationResult velocity, CalibrationResult position,
                                       const RadarAutoOptions& options) {
   if (!velocity.ok() && !position.ok()) {
-    CalibrationResult result = insufficient_data(
-        "radar",
-        fmt::format("velocity method: {}; position method: {}", velocity.reason, position.reason));
+    const std::string reason =
+        fmt::format("velocity method: {}; position method: {}", velocity.reason, position.reason);
+    const bool any_unreliable = velocity.status == CalibrationStatus::kUnreliable ||
+                                position.status == CalibrationStatus::kUnreliable;
+    // A fit that failed its checks keeps its figures for inspection; nothing is ok.
+    CalibrationResult result =
+        any_unreliable
+            ? mark_unreliable(
+                  velocity.status == CalibrationStatus::kUnreliable ? velocity : position, reason)
+            : insufficient_data("radar", reason);
     result.method = "auto";
     add_method_summary(result, velocity);
     add_method_summary(result, position);
@@ -43,8 +51,8 @@ CalibrationResult choose_radar_method(CalibrationResult velocity, CalibrationRes
   if (!velocity.ok() || !position.ok()) {
     CalibrationResult& chosen = velocity.ok() ? velocity : position;
     const CalibrationResult& other = velocity.ok() ? position : velocity;
-    chosen.reason = fmt::format("auto: only the {} method found a yaw ({} method: {})",
-                                chosen.method, other.method, other.reason);
+    chosen.reason = fmt::format("auto: only the {} method found a yaw ({} method, {}: {})",
+                                chosen.method, other.method, to_string(other.status), other.reason);
     CalibrationResult result = chosen;
     add_method_summary(result, velocity);
     add_method_summary(result, position);
@@ -83,6 +91,15 @@ CalibrationResult choose_radar_method(CalibrationResult velocity, CalibrationRes
   }
   CalibrationResult result = take_position ? position : velocity;
   result.reason = reason;
+  if (std::abs(difference) > options.max_disagreement) {
+    result = mark_unreliable(
+        std::move(result),
+        fmt::format("auto: the velocity and position methods disagree by {:.3f} deg (velocity "
+                    "{:.3f}, position {:.3f} deg), more than {:g} deg: at least one is wrong and "
+                    "the data do not say which",
+                    deg_from_rad(std::abs(difference)), deg_from_rad(*velocity.yaw),
+                    deg_from_rad(*position.yaw), deg_from_rad(options.max_disagreement)));
+  }
   add_method_summary(result, velocity);
   add_method_summary(result, position);
   result.diagnostics["methods_difference_deg"] = deg_from_rad(difference);

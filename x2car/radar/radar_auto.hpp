@@ -8,7 +8,10 @@
 //     objects support it (the Doppler is the suspect: noisy or biased range rates, an ego-speed
 //     scale error or a time offset bias the velocity method but not the triangles), otherwise the
 //     velocity method;
-//   - one ok: that one; neither: insufficient data with both reasons.
+//     and when they are more than max_disagreement apart, that result marked unreliable;
+//   - one ok: that one, with the other's status and reason;
+//   - neither: unreliable when either failed its checks (its figures kept), else insufficient data,
+//     with both reasons.
 // The reported result keeps its own fields; both methods' yaw, standard error and support are added
 // to diagnostics ("velocity_yaw_deg", ...) and support ("velocity_static_detections", ...), and
 // `reason` says which was chosen and why.

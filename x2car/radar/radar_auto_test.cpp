@@ -65,6 +65,35 @@ TEST(RadarAuto, ChoosesByAgreementAndSupport) {
   EXPECT_THAT(chosen.reason, HasSubstr("no tracks"));
 }
 
+// Issue 12: auto never reports ok from a method that failed its checks, nor from two methods that
+// disagree grossly.
+TEST(RadarAuto, UnreliableIsNeverOk) {
+  const RadarAutoOptions options;
+  const CalibrationResult unreliable_velocity =
+      mark_unreliable(method_result("velocity", 190.0, 0.03, 0), "the fit fails its checks");
+  // The other method ok: that one, naming the failure.
+  CalibrationResult chosen =
+      choose_radar_method(unreliable_velocity, method_result("position", 10.0, 0.05, 50), options);
+  EXPECT_TRUE(chosen.ok());
+  EXPECT_EQ(chosen.method, "position");
+  EXPECT_THAT(chosen.reason, HasSubstr("unreliable"));
+  // The other insufficient: unreliable, both reasons, the unreliable fit's figures kept.
+  CalibrationResult failed = insufficient_data("radar", "no tracks");
+  failed.method = "position";
+  chosen = choose_radar_method(unreliable_velocity, failed, options);
+  EXPECT_EQ(chosen.status, CalibrationStatus::kUnreliable);
+  EXPECT_EQ(chosen.method, "auto");
+  EXPECT_THAT(chosen.reason, HasSubstr("the fit fails its checks"));
+  EXPECT_THAT(chosen.reason, HasSubstr("no tracks"));
+  EXPECT_DOUBLE_EQ(chosen.diagnostics.at("velocity_ok"), 0.0);
+  EXPECT_DOUBLE_EQ(chosen.diagnostics.at("velocity_yaw_deg"), 190.0);
+  // Both ok, 180 deg apart (a flipped Doppler sign): unreliable.
+  chosen = choose_radar_method(method_result("velocity", 190.0, 0.03, 0),
+                               method_result("position", 10.0, 0.05, 50), options);
+  EXPECT_EQ(chosen.status, CalibrationStatus::kUnreliable);
+  EXPECT_THAT(chosen.reason, HasSubstr("disagree by 180.000 deg"));
+}
+
 // On a simulated drive auto reports both methods and says which it chose.
 TEST(RadarAuto, ReportsBothMethods) {
   const testing::RadarDrive& drive = testing::urban_radar_drive(2);

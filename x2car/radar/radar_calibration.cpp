@@ -80,18 +80,40 @@ std::vector<std::string> radar_method_names() { return enum_names(kRadarMethodNa
 
 void RadarVelocityMethodOptions::Check() const {
   const OptionsCheck check("RadarVelocityMethodOptions");
+  check.that(!nominal_yaw || std::isfinite(*nominal_yaw), "nominal_yaw", "must be finite");
   check.in_range("search_half_range", search_half_range, 0.0, kPi, Bounds::kOpenMax);
-  check.positive("search_step", search_step);
+  check.in_range("search_step", search_step, 0.0, kPi / 4.0, Bounds::kOpenMin);
   check.positive("coarse_tolerance_mps", coarse_tolerance_mps);
+  check.at_least("max_coarse_detections", max_coarse_detections, 1);
+  check.positive("max_refinement_move", max_refinement_move);
   check.positive("gate_sigmas", gate_sigmas);
   check.positive("min_gate_mps", min_gate_mps);
   check.positive("huber_sigmas", huber_sigmas);
   check.at_least("max_iterations", max_iterations, 1);
   check.positive("convergence", convergence);
+  check.positive("min_speed_scale", min_speed_scale);
+  check.ordered("min_speed_scale", min_speed_scale, "max_speed_scale", max_speed_scale);
+  check.that(min_speed_scale <= 1.0 && max_speed_scale >= 1.0, "min_speed_scale, max_speed_scale",
+             "must contain 1");
+  check.positive("coarse_scale_step", coarse_scale_step);
+  check.non_negative("speed_scale_sigma", speed_scale_sigma);
+  check.positive("block_s", block_s);
+  check.at_least("min_blocks", min_blocks, 2);
+  check.non_negative("min_yaw_std", min_yaw_std);
   check.positive("window_s", window_s);
   check.at_least("min_window_points", min_window_points, 3);
-  check.at_least("min_windows_for_spread", min_windows_for_spread, 2);
   check.at_least("min_static_points", min_static_points, 3);
+  check.positive("nominal_range_rate_sigma_mps", nominal_range_rate_sigma_mps);
+  check.positive("max_residual_sigma_ratio", max_residual_sigma_ratio);
+  check.positive("max_residual_sigma_mps", max_residual_sigma_mps);
+  check.probability("min_static_fraction", min_static_fraction);
+  check.positive("max_window_spread", max_window_spread);
+  check.at_least("min_windows_for_agreement", min_windows_for_agreement, 2);
+  check.positive("displacement_horizon_s", displacement_horizon_s);
+  check.positive("displacement_gate_m", displacement_gate_m);
+  check.non_negative("displacement_gate_fraction", displacement_gate_fraction);
+  check.at_least("min_displacement_tests", min_displacement_tests, 1);
+  check.at_least("max_displacement_tests", max_displacement_tests, 1);
 }
 
 void RadarCalibrationOptions::Check() const {
@@ -138,6 +160,7 @@ void RadarAutoOptions::Check() const {
   check.positive("agreement_sigmas", agreement_sigmas);
   check.non_negative("agreement_floor", agreement_floor);
   check.at_least("min_position_objects", min_position_objects, 1);
+  check.positive("max_disagreement", max_disagreement);
 }
 
 CalibrationResult calibrate_radar(std::span<const io::RadarDetection> detections,

@@ -11,14 +11,14 @@
 // non-holonomic constraint; radar_ego_motion.hpp).
 //
 // Velocity method (the paper's primary): keep detections taken while the car moves at least
-// min_speed_mps (and, without the radar's lever arm, while it does not turn); coarse search of psi
-// over [-A, A] in steps, counting detections within coarse_tolerance_mps of the static model; then
-// iterate: select the detections consistent with the static model under the current psi (an
-// adaptive k-sigma gate), fit psi by Gauss-Newton with Huber weights, until psi stops moving.
-// Per-window fits on the selected detections give the spread: the reported yaw is the global fit
-// and its standard error comes from the inverse-variance weighted spread of the window estimates
-// (windows rejected by median/MAD), never below the least-squares standard error; with fewer than
-// min_windows_for_spread windows, from the least-squares covariance alone.
+// min_speed_mps (and, without the radar's lever arm, while it does not turn); coarse search of
+// (psi, speed scale s) over the full circle (or around nominal_yaw), counting detections within
+// coarse_tolerance_mps of the static model; then iterate: select the detections consistent with
+// the static model (an adaptive k-sigma gate), fit (psi, s) by Gauss-Newton with Huber weights
+// within max_refinement_move of the coarse optimum, until they stop moving. The standard error is
+// block-clustered over time (correlated detections) with a Student-t factor; the fit's checks
+// (residual spread, static fraction, speed scale, basin, windows, static targets moving as fitted)
+// make a failed fit `unreliable` (radar_velocity_checks.hpp, docs/methods.md).
 //
 // Position method (the paper's refinement for noisy radars; radar_position_method.hpp): on straight
 // stretches, detections grouped into objects by track id; objects whose range/azimuth history is a
@@ -50,11 +50,24 @@ RadarMethod radar_method_from_string(const std::string& text);
 std::vector<std::string> radar_method_names();  // "auto", "velocity", "position": the CLI's choices
 
 struct RadarVelocityMethodOptions {
-  double search_half_range = rad_from_deg(45.0);  // A: coarse search over [-A, A] (paper) [rad]
-  double search_step = rad_from_deg(5.0);         // coarse grid step (paper) [rad]
+  // Coarse search (docs/methods.md "Velocity method"). Without a prior, psi over the full circle:
+  // the cosine model has no 180 deg ambiguity once the ego speed is known, so side- and
+  // rear-facing radars need no guess. With `nominal_yaw` (the mounting as designed, e.g. from a
+  // drawing or a tf tree), psi over [nominal_yaw - A, nominal_yaw + A] only.
+  std::optional<double> nominal_yaw;              // [rad]
+  double search_half_range = rad_from_deg(45.0);  // A around nominal_yaw (paper: 45 deg) [rad]
+  // Grid step of the coarse search. The paper uses 5 deg; the count is computed here for every
+  // grid value at once (each detection adds the arcs of psi where it fits), so a fine grid costs
+  // nothing [rad].
+  double search_step = rad_from_deg(0.5);
   // A detection counts as consistent with the static model in the coarse search within this
-  // range-rate tolerance; wide enough for half a grid step of model error at urban speeds [m/s].
+  // range-rate tolerance; wide enough for half a scale step of model error at urban speeds [m/s].
   double coarse_tolerance_mps = 0.5;
+  // The coarse search counts every k-th detection when there are more than this.
+  int max_coarse_detections = 20000;
+  // The refinement stays in the coarse optimum's basin: psi may move at most this far from it;
+  // a fit that ends on this bound is unreliable [rad].
+  double max_refinement_move = rad_from_deg(10.0);
   // Static selection during the refinement: |residual| <= max(gate_sigmas * robust sigma of the
   // selected residuals, min_gate_mps).
   double gate_sigmas = 3.0;
@@ -62,10 +75,55 @@ struct RadarVelocityMethodOptions {
   double huber_sigmas = 1.5;  // Huber kernel width in robust sigmas
   int max_iterations = 30;
   double convergence = rad_from_deg(1e-5);  // stop when psi moves less than this [rad]
-  double window_s = 10.0;                   // per-window estimates [s]
-  int min_window_points = 50;               // static detections a window needs to count
-  int min_windows_for_spread = 3;           // fewer: standard error from the covariance
-  int min_static_points = 100;              // fewer static detections: insufficient data
+
+  // Ego-speed scale s (range_rate = -(s v_car + omega x t_V_R) . u(theta + psi)): estimated with
+  // psi when true (a CAN or INS speed a few per cent off would otherwise move psi by up to a
+  // degree), else fixed at 1. A scale outside [min_speed_scale, max_speed_scale] is not a speed
+  // error but a wrong model (azimuth in degrees, a flipped range-rate sign): unreliable. The coarse
+  // search tries scales over that range in steps of coarse_scale_step.
+  bool estimate_speed_scale = true;
+  double min_speed_scale = 0.8;
+  double max_speed_scale = 1.25;
+  double coarse_scale_step = 0.05;
+  // Without the scale estimated, its nominal 1-sigma error; its effect on psi sets a floor under
+  // the standard error [-].
+  double speed_scale_sigma = 0.01;
+
+  // Standard error: a block-clustered sandwich over time blocks of block_s (detections of one
+  // target, the ego speed's errors are correlated over seconds), times the Student-t factor
+  // t(0.975, blocks - 1) / 1.96 so that +-2 SE stays a 95 % interval with few blocks; never below
+  // the least-squares error nor min_yaw_std.
+  double block_s = 3.0;                      // [s]
+  int min_blocks = 3;                        // fewer: insufficient data
+  double min_yaw_std = rad_from_deg(0.001);  // [rad]
+
+  // Per-window fits (the window_yaw series and the agreement check).
+  double window_s = 10.0;       // [s]
+  int min_window_points = 50;   // static detections a window needs to count
+  int min_static_points = 100;  // fewer static detections: insufficient data
+
+  // Checks of the fit (docs/methods.md "Checks"); a failed one makes the result unreliable.
+  // Residual spread: the robust sigma of the static residuals must not exceed
+  // max_residual_sigma_ratio x the radar's nominal range-rate noise, nor max_residual_sigma_mps.
+  double nominal_range_rate_sigma_mps = 0.1;  // ARS408 / ESR class [m/s]
+  double max_residual_sigma_ratio = 3.0;
+  double max_residual_sigma_mps = 0.5;  // [m/s]
+  // Static fraction: at least this share of the detections fits the static model.
+  double min_static_fraction = 0.2;
+  // Agreement between windows: the robust sigma of (window psi - psi) / window SE at most this,
+  // with at least min_windows_for_agreement windows.
+  double max_window_spread = 3.0;
+  int min_windows_for_agreement = 3;
+  // Displacement: static targets must reappear where the fitted motion moves them after
+  // displacement_horizon_s (within displacement_gate_m + displacement_gate_fraction x range),
+  // more often than where the opposite motion would (a flipped range-rate sign fits the cosine
+  // at psi + 180 deg exactly; only the positions tell). Checked when at least
+  // min_displacement_tests static detections have a later scan to be found in.
+  double displacement_horizon_s = 0.5;       // [s]
+  double displacement_gate_m = 1.0;          // [m]
+  double displacement_gate_fraction = 0.01;  // of the range [-]
+  int min_displacement_tests = 50;
+  int max_displacement_tests = 20000;  // more static detections: every k-th is tested
 
   void Check() const;  // throws std::invalid_argument naming the offending field
 };
@@ -130,6 +188,10 @@ struct RadarAutoOptions {
   // a time offset: the paper's reason for the position method), and the position method is
   // reported if at least this many static objects support it; otherwise the velocity method.
   int min_position_objects = 10;
+  // Methods further apart than this cannot both be near the truth, and neither is trusted: the
+  // result is unreliable. Larger than the biases docs/methods.md tabulates for the Doppler at
+  // their nominal sizes [rad].
+  double max_disagreement = rad_from_deg(1.0);
 
   void Check() const;  // throws std::invalid_argument naming the offending field
 };
@@ -158,8 +220,9 @@ struct RadarCalibrationOptions {
 
 // `detections` with times on the INS clock (radar_to_ins_time_offset), `ins` with strictly
 // increasing times. Detections outside the INS span, or in a gap of it, are dropped and counted
-// (rejections["outside_ins_span"], ["in_ins_gap"]). Returns an ok result or insufficient_data with
-// a reason, never NaN angles; throws std::invalid_argument only on invalid options.
+// (rejections["outside_ins_span"], ["in_ins_gap"]). Returns an ok result, insufficient_data with a
+// reason, or unreliable with the failed checks (the estimate kept for inspection), never NaN
+// angles; throws std::invalid_argument only on invalid options.
 CalibrationResult calibrate_radar(std::span<const io::RadarDetection> detections,
                                   std::span<const io::InsRecord> ins,
                                   const RadarCalibrationOptions& options = {});

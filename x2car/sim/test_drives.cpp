@@ -1,5 +1,6 @@
 #include "x2car/sim/test_drives.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <mutex>
@@ -88,6 +89,36 @@ std::vector<RadarScan> radar_scans(const RadarDrive& drive, double yaw_deg,
 std::vector<io::RadarDetection> radar_detections(const RadarDrive& drive, double yaw_deg,
                                                  const RadarOptions& radar, std::uint64_t seed) {
   return radar_measurements(radar_scans(drive, yaw_deg, radar, seed));
+}
+
+Eigen::Vector3d radar_lever_arm_facing(double yaw_deg) {
+  constexpr double kRear = -1.0;
+  constexpr double kFront = 3.7;
+  constexpr double kHalfWidth = 0.95;
+  const double centre = 0.5 * (kRear + kFront);
+  const double dx = std::cos(rad_from_deg(yaw_deg));
+  const double dy = std::sin(rad_from_deg(yaw_deg));
+  // The smallest positive distance at which the ray meets an edge of the outline.
+  double distance = 1e9;
+  if (std::abs(dx) > 1e-12)
+    distance = std::min(distance, (dx > 0 ? kFront - centre : centre - kRear) / std::abs(dx));
+  if (std::abs(dy) > 1e-12) distance = std::min(distance, kHalfWidth / std::abs(dy));
+  return {centre + distance * dx, distance * dy, 0.5};
+}
+
+std::vector<RadarScan> radar_scans_at(const RadarDrive& drive, const Eigen::Vector3d& lever_arm,
+                                      double yaw_deg, const RadarOptions& radar,
+                                      std::uint64_t seed) {
+  const Eigen::Isometry3d vehicle_from_radar = make_transform(
+      EulerAngles{.roll = 0.0, .pitch = 0.0, .yaw = rad_from_deg(yaw_deg)}, lever_arm);
+  return simulate_radar(drive.simulation.states, vehicle_from_radar, drive.scene, radar, seed);
+}
+
+std::vector<io::RadarDetection> radar_detections_at(const RadarDrive& drive,
+                                                    const Eigen::Vector3d& lever_arm,
+                                                    double yaw_deg, const RadarOptions& radar,
+                                                    std::uint64_t seed) {
+  return radar_measurements(radar_scans_at(drive, lever_arm, yaw_deg, radar, seed));
 }
 
 ConstructedRadarDrive constructed_radar_drive(double speed, double duration_s, double radar_yaw,

@@ -82,6 +82,21 @@ std::vector<RadarScan> radar_scans(const RadarDrive& drive, double yaw_deg,
 std::vector<io::RadarDetection> radar_detections(const RadarDrive& drive, double yaw_deg,
                                                  const RadarOptions& radar, std::uint64_t seed);
 
+// A plausible place on the car for a radar facing `yaw_deg` [deg]: where the ray from the middle
+// of the car's outline (x from -1.0 m, the rear bumper, to 3.7 m, the front one; y within
+// +-0.95 m) in that direction leaves it, 0.5 m up: the front bumper for 0 deg, a corner for 25 deg,
+// the middle of a side for 90 deg, the rear bumper for 180 deg.
+Eigen::Vector3d radar_lever_arm_facing(double yaw_deg);
+
+// The drive seen by a radar at `lever_arm` (vehicle frame [m]) yawed by `yaw_deg` [deg].
+std::vector<RadarScan> radar_scans_at(const RadarDrive& drive, const Eigen::Vector3d& lever_arm,
+                                      double yaw_deg, const RadarOptions& radar,
+                                      std::uint64_t seed);
+std::vector<io::RadarDetection> radar_detections_at(const RadarDrive& drive,
+                                                    const Eigen::Vector3d& lever_arm,
+                                                    double yaw_deg, const RadarOptions& radar,
+                                                    std::uint64_t seed);
+
 // A target of the constructed drive: at `position` (world, the car starts at the origin heading
 // east) at time 0, moving with `velocity`, reported under `track_id` while `visible_from` <= t <=
 // `visible_to` and its range is within [min_range, max_range].
