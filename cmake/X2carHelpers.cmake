@@ -33,5 +33,9 @@ function(x2car_tests name)
   x2car_precompile(${name} ${X2CAR_COMMON_HEADERS} <gtest/gtest.h> <gmock/gmock.h>)
   # Speed is measured in bench/, never asserted here: a unit test's result must not depend on how
   # busy the machine is.
-  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60)
+  # Each build folder has its own temp folder (::testing::TempDir()), so that two checkouts testing
+  # on one machine never share the files their tests write.
+  file(MAKE_DIRECTORY ${CMAKE_BINARY_DIR}/test_tmp)
+  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60
+    PROPERTIES ENVIRONMENT "TEST_TMPDIR=${CMAKE_BINARY_DIR}/test_tmp/")
 endfunction()
