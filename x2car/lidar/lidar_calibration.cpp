@@ -6,8 +6,10 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -28,6 +30,7 @@ struct SweepInFlight {
   std::size_t index = 0;
   io::PointCloud cloud;
   std::optional<std::string> read_error;  // set when skip_bad_sweeps caught an InputError
+  std::exception_ptr error;               // any other error while reading or fitting it
 };
 
 // What one pass over the sweeps produced, for the sweeps that could be read.
@@ -95,6 +98,10 @@ SweepPass run_sweep_pass(const SweepSource& sweeps, const LidarCalibrationOption
   std::size_t next = 0;
   std::size_t done = 0;
   tbb::enumerable_thread_specific<GroundScratch> scratch;
+  // No exception may leave a filter: a pipeline cancelled by one leaks the sweeps in flight. The
+  // first error in sweep order stops the reading and is rethrown once the pipeline has drained.
+  std::exception_ptr first_error;
+  std::atomic<bool> stopping = false;
   // Enough sweeps in flight to keep every core reading and fitting while the odometry runs, few
   // enough that memory stays bounded.
   const std::size_t in_flight = 2 * std::max<std::size_t>(2, std::thread::hardware_concurrency());
@@ -103,7 +110,7 @@ SweepPass run_sweep_pass(const SweepSource& sweeps, const LidarCalibrationOption
       tbb::make_filter<void, std::shared_ptr<SweepInFlight>>(
           tbb::filter_mode::serial_in_order,
           [&](tbb::flow_control& control) -> std::shared_ptr<SweepInFlight> {
-            if (next == count) {
+            if (next == count || stopping.load()) {
               control.stop();
               return nullptr;
             }
@@ -114,19 +121,32 @@ SweepPass run_sweep_pass(const SweepSource& sweeps, const LidarCalibrationOption
           tbb::make_filter<std::shared_ptr<SweepInFlight>, std::shared_ptr<SweepInFlight>>(
               tbb::filter_mode::parallel,
               [&](std::shared_ptr<SweepInFlight> sweep) {
-                read_and_fit(sweeps, options, *sweep, pass.ground[sweep->index], scratch.local());
+                if (stopping.load()) return sweep;
+                try {
+                  read_and_fit(sweeps, options, *sweep, pass.ground[sweep->index], scratch.local());
+                } catch (...) {
+                  sweep->error = std::current_exception();
+                }
                 return sweep;
               }) &
           tbb::make_filter<std::shared_ptr<SweepInFlight>, void>(
               tbb::filter_mode::serial_in_order, [&](const std::shared_ptr<SweepInFlight>& sweep) {
-                if (sweep->read_error) {
-                  unreadable[sweep->index] = 1;
-                  if (pass.unreadable++ == 0) pass.first_read_error = sweep->read_error;
-                } else {
-                  pass.steps[sweep->index] = register_in_order(odometry, *sweep, sweeps);
+                if (first_error) return;
+                try {
+                  if (sweep->error) std::rethrow_exception(sweep->error);
+                  if (sweep->read_error) {
+                    unreadable[sweep->index] = 1;
+                    if (pass.unreadable++ == 0) pass.first_read_error = sweep->read_error;
+                  } else {
+                    pass.steps[sweep->index] = register_in_order(odometry, *sweep, sweeps);
+                  }
+                  if (options.progress) options.progress(++done, count);
+                } catch (...) {
+                  first_error = std::current_exception();
+                  stopping = true;
                 }
-                if (options.progress) options.progress(++done, count);
               }));
+  if (first_error) std::rethrow_exception(first_error);
   drop_unreadable(unreadable, pass);
   return pass;
 }
