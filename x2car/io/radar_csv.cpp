@@ -306,11 +306,12 @@ std::vector<RadarDetection> radar_scan_rows(std::span<const RadarDetection> scan
   });
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const RadarDetection& row = rows[i];
-    if (row.track_id < 0 || row.track_id > max_track_id) {
+    if (row.track_id == kNoTrackId) {  // a cluster: no id, nothing to repeat
+    } else if (row.track_id < 0 || row.track_id > max_track_id) {
       throw std::invalid_argument(
           fmt::format("{} radar: track id {} is outside 0-{}", layout, row.track_id, max_track_id));
     }
-    if (i > 0 && rows[i - 1].track_id == row.track_id) {
+    if (i > 0 && row.track_id != kNoTrackId && rows[i - 1].track_id == row.track_id) {
       throw std::invalid_argument(
           fmt::format("{} radar: track id {} twice in one scan", layout, row.track_id));
     }
@@ -323,6 +324,7 @@ std::vector<RadarDetection> radar_scan_rows(std::span<const RadarDetection> scan
 }
 
 int parse_radar_track_id(std::string_view text, const FieldLocation& where, int max_track_id) {
+  if (trim(text).empty()) return kNoTrackId;  // a cluster list's row
   const std::int64_t id = parse_integer(text, where);
   if (id < 0 || id > max_track_id) {
     throw InputError(where.file, where.line, where.field,

@@ -111,13 +111,14 @@ struct StampedRadarDetection {
 // An empty input gives an empty log.
 RadarLog make_radar_log(std::vector<StampedRadarDetection> rows);
 
-// The scan's detections sorted by track id, for the scan-file writers. Throws
-// std::invalid_argument naming `layout` for an id outside 0..max_track_id, a repeated id, or a
-// detection without velocity.
+// The scan's detections sorted by track id, for the scan-file writers (detections without a track
+// id, kNoTrackId, first, in their order: a cluster list). Throws std::invalid_argument naming
+// `layout` for an id outside 0..max_track_id, a repeated id, or a detection without velocity.
 std::vector<RadarDetection> radar_scan_rows(std::span<const RadarDetection> scan, int max_track_id,
                                             std::string_view layout);
 
-// A track id field: an integer in [0, max_track_id]; InputError at `where` otherwise.
+// A track id field: an integer in [0, max_track_id], or empty for none (kNoTrackId: a cluster
+// list's row); InputError at `where` otherwise.
 int parse_radar_track_id(std::string_view text, const FieldLocation& where, int max_track_id);
 
 // Text of one scan file from its detections, the UTC instant of its first row [ns] and its

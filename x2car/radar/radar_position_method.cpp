@@ -9,6 +9,7 @@
 #include "x2car/core/robust_stats.hpp"
 #include "x2car/core/rotation.hpp"
 #include "x2car/core/segmentation.hpp"
+#include "x2car/radar/radar_association.hpp"
 #include "x2car/radar/radar_velocity_method.hpp"
 
 namespace x2car::radar {
@@ -147,6 +148,14 @@ std::vector<PairRecord> static_object_pairs(std::span<const RadarSample> samples
     }
     ++counts.static_objects;
     for (std::size_t j = 0; j < usable.size(); ++j) {
+      if (closes(usable[j])) {
+        for (const std::size_t i : {indices[j], indices[j + half]}) {
+          const double expected = static_range_rate(samples[i], usable[j].yaw);
+          counts.range_rate_dot += samples[i].range_rate * expected;
+          counts.range_rate_norm += expected * expected;
+        }
+        ++counts.closing_pairs;
+      }
       if (!closes(usable[j])) {
         ++counts.not_closing;
       } else if (usable[j].confidence < options.min_confidence) {
@@ -228,6 +237,88 @@ Combination combine_pairs(std::span<const PairRecord> pairs,
         combination.standard_error, standard_error_of_weighted_mean(object_means, object_weights));
   }
   return combination;
+}
+
+// The span of the detections' azimuths, 5th to 95th percentile [rad] (0 with no detections).
+double azimuth_span(std::span<const RadarSample> samples) {
+  std::vector<double> azimuths;
+  azimuths.reserve(samples.size());
+  for (const RadarSample& sample : samples) azimuths.push_back(sample.azimuth);
+  if (azimuths.empty()) return 0.0;
+  const auto at = [&](double fraction) {
+    const auto k = static_cast<std::size_t>(fraction * static_cast<double>(azimuths.size() - 1));
+    std::nth_element(azimuths.begin(), azimuths.begin() + static_cast<std::ptrdiff_t>(k),
+                     azimuths.end());
+    return azimuths[k];
+  };
+  return at(0.95) - at(0.05);
+}
+
+// Checks of the input that no fit can repair: azimuths that are not radians (docs/methods.md).
+std::optional<std::string> check_azimuths(std::span<const RadarSample> samples, double span,
+                                          const RadarPositionMethodOptions& options) {
+  for (const RadarSample& sample : samples) {
+    if (std::abs(sample.azimuth) > kPi + 1e-9) {
+      return fmt::format(
+          "azimuth {:g} rad at t = {:.3f} s is beyond +-pi: the azimuths are not in radians "
+          "(degrees read as radians? pass --angle-unit deg)",
+          sample.azimuth, sample.time);
+    }
+  }
+  if (static_cast<int>(samples.size()) >= options.min_pairs && span < options.min_azimuth_span) {
+    return fmt::format(
+        "the azimuths span only {:.3f} deg (5th to 95th percentile; need >= {:.1f} deg): no radar "
+        "sees through such a slit (radians read as degrees?)",
+        deg_from_rad(span), deg_from_rad(options.min_azimuth_span));
+  }
+  return std::nullopt;
+}
+
+double range_rate_slope(const PairCounts& counts) {
+  return counts.range_rate_norm > 0.0 ? counts.range_rate_dot / counts.range_rate_norm : 0.0;
+}
+
+double static_object_fraction(const PairCounts& counts) {
+  const std::int64_t tested = counts.static_objects + counts.moving_objects;
+  return tested > 0 ? static_cast<double>(counts.static_objects) / static_cast<double>(tested)
+                    : 0.0;
+}
+
+// Checks of the pairs (docs/methods.md): the range rates against the static model, the share of
+// static objects. Run whether or not there are enough pairs for a yaw.
+std::optional<std::string> check_pairs(const PairCounts& counts,
+                                       const RadarPositionMethodOptions& options) {
+  if (counts.closing_pairs >= options.min_pairs &&
+      range_rate_slope(counts) < options.min_range_rate_slope) {
+    return fmt::format(
+        "the range rates of the static objects do not follow the car's motion: slope {:.2f} "
+        "against the static model (need >= {:.2f}; -1 is a flipped range-rate sign, 0 range rates "
+        "unrelated to the motion)",
+        range_rate_slope(counts), options.min_range_rate_slope);
+  }
+  if (counts.static_objects >= options.min_static_objects &&
+      static_object_fraction(counts) < options.min_static_object_fraction) {
+    return fmt::format(
+        "only {} of {} objects ({:.0f} %) pass the triangle test (need >= {:.0f} %): the ego "
+        "motion does not explain the radar's view (speed scale, time offset, units?)",
+        counts.static_objects, counts.static_objects + counts.moving_objects,
+        100.0 * static_object_fraction(counts), 100.0 * options.min_static_object_fraction);
+  }
+  return std::nullopt;
+}
+
+// Samples with the association's track ids in place of the radar's (none).
+std::vector<RadarSample> with_associated_tracks(std::span<const RadarSample> samples,
+                                                const RadarPositionMethodOptions& options,
+                                                std::int64_t& tracks) {
+  const RadarAssociation association = associate_detections(samples, options);
+  std::vector<RadarSample> associated(samples.begin(), samples.end());
+  for (std::size_t i = 0; i < associated.size(); ++i) {
+    associated[i].track_id = association.track_of_sample[i];
+    associated[i].new_track = false;
+  }
+  tracks = association.tracks_of_two_or_more;
+  return associated;
 }
 
 }  // namespace
@@ -314,6 +405,21 @@ RadarPositionEstimate estimate_yaw_by_position(
     const std::optional<Eigen::Vector2d>& lever_arm_in_vehicle,
     const RadarPositionMethodOptions& options) {
   RadarPositionEstimate estimate;
+  estimate.azimuth_span = azimuth_span(samples);
+  if (auto failed = check_azimuths(samples, estimate.azimuth_span, options)) {
+    estimate.unreliable_reason = std::move(failed);
+    return estimate;
+  }
+  // Objects by the radar's track ids, or by associating the detections when it has none.
+  const bool has_track_ids = std::any_of(samples.begin(), samples.end(), [](const RadarSample& s) {
+    return s.track_id != io::kNoTrackId;
+  });
+  std::vector<RadarSample> associated;
+  if (options.always_associate || (!has_track_ids && options.associate_without_track_ids)) {
+    associated = with_associated_tracks(samples, options, estimate.associated_tracks);
+    estimate.associated = true;
+    samples = associated;
+  }
   const StraightStretches stretches = straight_stretches(samples, records, options.straight);
   estimate.straight_segments = static_cast<std::int64_t>(stretches.segmentation.segments.size());
   const ObjectGrouping grouping = group_objects(samples, stretches.segment_of_sample, options);
@@ -322,13 +428,15 @@ RadarPositionEstimate estimate_yaw_by_position(
   const std::vector<PairRecord> pairs = static_object_pairs(
       samples, grouping.objects, lever_arm_in_vehicle, options, estimate.counts);
   estimate.pairs = static_cast<std::int64_t>(pairs.size());
+  estimate.unreliable_reason = check_pairs(estimate.counts, options);
   if (samples.empty()) {
     estimate.insufficient_reason = "no radar detections left for the position method";
     return estimate;
   }
   if (grouping.no_track_id == static_cast<std::int64_t>(samples.size())) {
     estimate.insufficient_reason =
-        "the radar detections carry no track ids; the position method groups by track id";
+        "the radar detections carry no track ids and the association is off "
+        "(associate_without_track_ids); the position method groups by track id";
     return estimate;
   }
   if (stretches.segmentation.segments.empty()) {
@@ -349,6 +457,12 @@ RadarPositionEstimate estimate_yaw_by_position(
   }
   estimate.combination = combine_pairs(pairs, options);
   const Combination& combination = estimate.combination;
+  if (!estimate.unreliable_reason && combination.normalised_sigma > options.max_noise_vs_nominal) {
+    estimate.unreliable_reason = fmt::format(
+        "the pair yaws scatter {:.1f} times their predicted sigma (need <= {:.1f}): the radar is "
+        "far noisier than its nominal noise, or the objects are not what the triangles assume",
+        combination.normalised_sigma, options.max_noise_vs_nominal);
+  }
   if (static_cast<int>(pairs.size()) - combination.outliers < options.min_pairs) {
     estimate.insufficient_reason =
         fmt::format("only {} of {} observation pairs agree with each other; need {}",
@@ -356,6 +470,7 @@ RadarPositionEstimate estimate_yaw_by_position(
                     options.min_pairs);
     return estimate;
   }
+  estimate.combined = true;
   for (std::size_t i = 0; i < pairs.size(); ++i) {
     if (!combination.inliers[i]) continue;
     estimate.inlier_baselines_m.push_back(pairs[i].estimate.baseline_m);
@@ -366,10 +481,13 @@ RadarPositionEstimate estimate_yaw_by_position(
   return estimate;
 }
 
-CalibrationResult position_method_result(const RadarPositionEstimate& estimate) {
+namespace {
+
+// The result's figures and status without the checks' verdict.
+CalibrationResult position_method_figures(const RadarPositionEstimate& estimate) {
   CalibrationResult result;
-  if (estimate.insufficient_reason) {
-    result = insufficient_data("radar", *estimate.insufficient_reason);
+  if (estimate.insufficient_reason || !estimate.combined) {
+    result = insufficient_data("radar", estimate.insufficient_reason.value_or(""));
   } else {
     result.sensor = "radar";
     result.status = CalibrationStatus::kOk;
@@ -388,17 +506,38 @@ CalibrationResult position_method_result(const RadarPositionEstimate& estimate) 
                     {"objects", counts.objects},
                     {"static_objects", counts.static_objects},
                     {"pairs", estimate.pairs}};
-  if (estimate.insufficient_reason) return result;
+  result.diagnostics = {{"azimuth_span_deg", deg_from_rad(estimate.azimuth_span)},
+                        {"associated", estimate.associated ? 1.0 : 0.0}};
+  if (estimate.associated) result.support["associated_tracks"] = estimate.associated_tracks;
+  if (counts.closing_pairs > 0) {
+    result.diagnostics["range_rate_slope"] = range_rate_slope(counts);
+  }
+  if (counts.static_objects + counts.moving_objects > 0) {
+    result.diagnostics["static_object_fraction"] = static_object_fraction(counts);
+  }
+  if (!estimate.combined) return result;
   const Combination& combination = estimate.combination;
   result.yaw = combination.yaw;
   result.yaw_std = combination.standard_error;
   result.rejections["outlier_pairs"] = combination.outliers;
   result.support["pairs"] = estimate.pairs - combination.outliers;
   result.support["objects_with_pairs"] = combination.objects;
-  result.diagnostics = {{"median_baseline_m", median(estimate.inlier_baselines_m)},
-                        {"median_confidence", median(estimate.inlier_confidences)},
-                        {"noise_vs_nominal", combination.normalised_sigma}};
+  result.diagnostics["median_baseline_m"] = median(estimate.inlier_baselines_m);
+  result.diagnostics["median_confidence"] = median(estimate.inlier_confidences);
+  result.diagnostics["noise_vs_nominal"] = combination.normalised_sigma;
   result.series.push_back({"pair_yaw", "rad", estimate.inlier_times, estimate.inlier_yaws});
+  return result;
+}
+
+}  // namespace
+
+CalibrationResult position_method_result(const RadarPositionEstimate& estimate) {
+  CalibrationResult result = position_method_figures(estimate);
+  if (estimate.unreliable_reason) {
+    std::string reason = *estimate.unreliable_reason;
+    if (estimate.insufficient_reason) reason += "; also " + *estimate.insufficient_reason;
+    result = mark_unreliable(std::move(result), std::move(reason));
+  }
   return result;
 }
 
