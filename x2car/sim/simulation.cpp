@@ -205,10 +205,11 @@ void SimulationOptions::Check() const {
   radar.Check();
   world_radar.Check();
   camera.Check();
-  // The layouts' track id fields: Conti 0-99, Delphi 0-63.
+  // The layouts' track id fields: Conti 0-99, Delphi 0-63 (a cluster radar writes none).
   const int max_ids = radar_layout == io::RadarLayout::kDelphi ? 64 : 100;
   check.that(
-      radar_layout == io::RadarLayout::kGeneric || radar.track_id_count <= max_ids,
+      radar_layout == io::RadarLayout::kGeneric || !radar.track_ids ||
+          radar.track_id_count <= max_ids,
       "radar.track_id_count",
       fmt::format("must be <= {} for the {} radar layout", max_ids, io::to_string(radar_layout)),
       radar.track_id_count);
