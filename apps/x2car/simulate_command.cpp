@@ -14,6 +14,7 @@
 #include "apps/x2car/exit_codes.hpp"
 #include "apps/x2car/number_checks.hpp"
 #include "apps/x2car/output_paths.hpp"
+#include "apps/x2car/progress_bar.hpp"
 #include "apps/x2car/simulation_config.hpp"
 #include "apps/x2car/subcommand.hpp"
 #include "x2car/core/error.hpp"
@@ -166,7 +167,9 @@ int run_simulate(const SimulateArguments& arguments) {
   check_output_folder({"--out", arguments.out_dir}, inputs);
   const auto start = std::chrono::steady_clock::now();
   const sim::Simulation simulation = sim::simulate(options);
-  sim::write_simulation(simulation, arguments.out_dir);
+  ProgressBar progress("lidar sweeps", spdlog::should_log(spdlog::level::info));
+  sim::write_simulation(simulation, arguments.out_dir, progress.callback());
+  progress.finish();
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   print_summary(simulation, arguments.out_dir, seconds);

@@ -296,7 +296,8 @@ std::string format_radar_truth_csv(std::span<const RadarScan> scans) {
   return text;
 }
 
-void write_simulation(const Simulation& simulation, const std::filesystem::path& out_dir) {
+void write_simulation(const Simulation& simulation, const std::filesystem::path& out_dir,
+                      const SweepProgress& lidar_progress) {
   create_folder(out_dir);
   io::write_ground_truth(out_dir / "ground_truth.yaml", simulation.truth);
 
@@ -314,7 +315,7 @@ void write_simulation(const Simulation& simulation, const std::filesystem::path&
   if (simulation.lidar) {
     write_simulated_lidar(simulation.world, simulation.states,
                           simulation.truth.vehicle_from_sensor.at("lidar").vehicle_from_sensor(),
-                          *simulation.lidar, out_dir / "lidar");
+                          *simulation.lidar, out_dir / "lidar", lidar_progress);
   }
   for (const auto& [sensor, scans] : simulation.radars) {
     empty_folder(out_dir / sensor);  // created even when no scan has a detection

@@ -110,8 +110,10 @@ Simulation simulate(const SimulationOptions& options);
 //   simulation's layout; emptied first, so that a rerun leaves no stale scans) and
 //   <sensor>_truth.csv (radar_truth.csv, radar_left_truth.csv: each detection's source),
 //   camera/intrinsics.yaml
-// Creates the folder; InputError when it cannot be written.
-void write_simulation(const Simulation& simulation, const std::filesystem::path& out_dir);
+// Creates the folder; InputError when it cannot be written. `lidar_progress` follows the LiDAR's
+// sweeps, the slow part of a long drive (lidar_writer.hpp).
+void write_simulation(const Simulation& simulation, const std::filesystem::path& out_dir,
+                      const SweepProgress& lidar_progress = {});
 
 // The radar detections' ground truth, one row per detection in the order of the radar's files:
 //   time,track_id,source,object_id,moving,range,azimuth,range_rate
