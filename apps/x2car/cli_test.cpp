@@ -507,16 +507,16 @@ TEST(CalibrateRadar, SideAndRearClusterRadarsOfOneCar) {
     const std::string entry = "vehicle_from_" + sensor + ":";
     const double true_yaw_deg = number_after(truth, entry, "yaw") * 180.0 / M_PI;
     const auto json = folder / (sensor + ".json");
-    const CliRun run = run_x2car(
-        "calibrate radar --method position --input " + (drive / sensor).string() + " --ins " +
-        (drive / "ins/novatel_enu.csv").string() + " --lever-arm " +
-        std::to_string(number_after(truth, entry, "x")) + " " +
-        std::to_string(number_after(truth, entry, "y")) + " --out " + json.string());
+    const CliRun run =
+        run_x2car("calibrate radar --method position --input " + (drive / sensor).string() +
+                  " --ins " + (drive / "ins/novatel_enu.csv").string() + " --lever-arm " +
+                  std::to_string(number_after(truth, entry, "x")) + " " +
+                  std::to_string(number_after(truth, entry, "y")) + " --out " + json.string());
     ASSERT_EQ(run.exit_code, 0) << run.output;
     const std::string result = io::read_text_file(json);
     EXPECT_THAT(result, HasSubstr("\"associated_tracks\""));
-    const double error_deg = std::remainder(
-        number_after(result, "", "\"yaw_deg\"") - true_yaw_deg, 360.0);
+    const double error_deg =
+        std::remainder(number_after(result, "", "\"yaw_deg\"") - true_yaw_deg, 360.0);
     EXPECT_LE(std::abs(error_deg), 0.3) << result;
   }
 }

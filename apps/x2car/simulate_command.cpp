@@ -283,7 +283,8 @@ RunCommand setup_simulate_command(CLI::App& command) {
       "  x2car simulate --scenario urban --duration 120 --seed 3 --out /tmp/drive\n"
       "  x2car simulate --duration 60 --sensors ins,lidar --lidar-beams 32 --out /tmp/lidar\n"
       "  x2car simulate --duration 60 --sensors ins,radar --radar-format delphi --out /tmp/radar\n"
-      "  x2car simulate --duration 60 --sensors ins,radar_front,radar_left,radar_rear --out /tmp/car\n"
+      "  x2car simulate --duration 60 --sensors ins,radar_front,radar_left,radar_rear --out "
+      "/tmp/car\n"
       "  x2car simulate --print-config > sim.yaml   # edit, then: --config sim.yaml");
   return [arguments] { return run_simulate(*arguments); };
 }

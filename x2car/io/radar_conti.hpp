@@ -43,9 +43,9 @@ void write_conti_radar(const std::filesystem::path& folder,
 
 // Throws InputError naming file, line and field for: a header that does not start with
 // time_ns,track_id,vx,vy,px,py; a row whose field count differs from the header's; a non-integer
-// time or track id; a track id outside 0-99 or not ascending within a scan (empty ids: clusters); a non-numeric or
-// non-finite number. An empty file (not even a header) is an error; a header without rows is an
-// empty scan.
+// time or track id; a track id outside 0-99 or not ascending within a scan (empty ids: clusters); a
+// non-numeric or non-finite number. An empty file (not even a header) is an error; a header without
+// rows is an empty scan.
 std::vector<StampedRadarDetection> parse_conti_scan(std::string_view text,
                                                     const std::string& source_name);
 

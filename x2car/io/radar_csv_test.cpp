@@ -479,8 +479,8 @@ TEST(RadarLayouts, EveryWrongLayoutNamesTheOneThatReadsTheFiles) {
     for (const RadarLayout given : layouts) {
       if (given == written) continue;
       SCOPED_TRACE(to_string(written) + " read as " + to_string(given));
-      const InputError error = x2car::testing::input_error_of(
-          [&] { read_radar(folder / to_string(written), given); });
+      const InputError error =
+          x2car::testing::input_error_of([&] { read_radar(folder / to_string(written), given); });
       EXPECT_THAT(error.what(), HasSubstr("look like the " + to_string(written) +
                                           " layout: pass --layout " + to_string(written)));
     }

@@ -101,9 +101,8 @@ double gated_distance(const OpenTrack& track, const RadarSample& sample,
 void add_point(OpenTrack& track, const RadarSample& sample, double window_s) {
   track.recent.push_back(point_of(sample));
   const double oldest = sample.time - window_s;
-  const auto first_kept =
-      std::find_if(track.recent.begin(), track.recent.end(),
-                   [&](const TrackPoint& p) { return p.time >= oldest; });
+  const auto first_kept = std::find_if(track.recent.begin(), track.recent.end(),
+                                       [&](const TrackPoint& p) { return p.time >= oldest; });
   // Keep at least the point before the newest, so that the line has two points.
   const auto limit = track.recent.end() - std::min<std::ptrdiff_t>(2, track.recent.size());
   track.recent.erase(track.recent.begin(), std::min(first_kept, limit));
@@ -148,8 +147,9 @@ RadarAssociation associate_detections(std::span<const RadarSample> samples,
       }
     }
     std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
-      return a.distance != b.distance ? a.distance < b.distance
-                                      : (a.track != b.track ? a.track < b.track : a.sample < b.sample);
+      return a.distance != b.distance
+                 ? a.distance < b.distance
+                 : (a.track != b.track ? a.track < b.track : a.sample < b.sample);
     });
     std::vector<std::uint8_t> track_taken(open.size(), 0);
     for (const Candidate& c : candidates) {

@@ -70,8 +70,8 @@ TEST(RadarAssociation, SimulatedClustersFormPureTracksInEveryDirection) {
     const Eigen::Isometry3d vehicle_from_radar =
         make_transform(EulerAngles{.roll = 0.0, .pitch = 0.0, .yaw = rad_from_deg(yaw_deg)},
                        testing::radar_lever_arm_for_yaw(yaw_deg));
-    const std::vector<sim::RadarScan> scans = sim::simulate_radar(
-        drive.simulation.states, vehicle_from_radar, drive.scene, radar, 7);
+    const std::vector<sim::RadarScan> scans =
+        sim::simulate_radar(drive.simulation.states, vehicle_from_radar, drive.scene, radar, 7);
     std::vector<io::RadarDetection> detections;
     std::vector<int> objects;
     for (const sim::RadarScan& scan : scans) {
@@ -117,33 +117,3 @@ TEST(RadarAssociation, SimulatedClustersFormPureTracksInEveryDirection) {
 
 }  // namespace
 }  // namespace x2car::radar
-// SCRATCH
-#include <iostream>
-#include "x2car/radar/radar_calibration.hpp"
-namespace x2car::radar {
-TEST(Scratch, Directions) {
-  const char* env = std::getenv("SCRATCH_YAWS");
-  if (!env) GTEST_SKIP();
-  for (int ids = 1; ids >= 0; --ids)
-  for (const double yaw : {90.0, -90.0, 85.0, 0.0}) {
-    for (std::uint64_t seed = 1; seed <= 5; ++seed) {
-      const auto& drive = sim::testing::urban_radar_drive(seed, 60.0);
-      sim::RadarOptions radar = std::getenv("DELPHI") ? sim::RadarOptions::delphi_esr() : sim::RadarOptions::conti_ars408();
-      radar.track_ids = ids;
-      auto det = sim::testing::radar_detections_facing(drive, yaw, radar, seed);
-      if (std::getenv("FLIP")) for (auto& d : det) d.range_rate = -d.range_rate;
-      RadarCalibrationOptions o; o.method = RadarMethod::kPosition;
-      o.lever_arm_in_vehicle = sim::testing::radar_lever_arm_for_yaw(yaw).head<2>();
-      const auto r = calibrate_radar(det, drive.simulation.ins, o);
-      std::cerr << "ids " << ids << " yaw " << yaw << " seed " << seed << " " << to_string(r.status) << " err "
-                << (r.yaw ? deg_from_rad(angle_difference(*r.yaw, rad_from_deg(yaw))) : NAN)
-                << " se " << (r.yaw_std ? deg_from_rad(*r.yaw_std) : NAN) << " det " << det.size();
-      for (auto& [k, v] : r.support) std::cerr << " " << k << "=" << v;
-      for (auto& [k, v] : r.rejections) if (v) std::cerr << " r:" << k << "=" << v;
-      for (auto& [k, v] : r.diagnostics) std::cerr << " d:" << k << "=" << v;
-      if (!r.ok()) std::cerr << " REASON " << r.reason;
-      std::cerr << "\n";
-    }
-  }
-}
-}

@@ -208,9 +208,9 @@ TEST(RadarPositionMethod, ReusedTrackIdsAreSplit) {
 
 // The drive seen by a Conti-like radar facing `yaw_deg`, with or without track ids, calibrated by
 // the position method with the radar's lever arm.
-CalibrationResult position_result_facing(double yaw_deg, bool track_ids, std::uint64_t seed,
-                                         const std::function<void(io::RadarDetection&)>& spoil =
-                                             [](io::RadarDetection&) {}) {
+CalibrationResult position_result_facing(
+    double yaw_deg, bool track_ids, std::uint64_t seed,
+    const std::function<void(io::RadarDetection&)>& spoil = [](io::RadarDetection&) {}) {
   const testing::RadarDrive& drive = testing::urban_radar_drive(seed);
   sim::RadarOptions radar = sim::RadarOptions::conti_ars408();
   radar.track_ids = track_ids;
@@ -257,12 +257,14 @@ TEST(RadarPositionMethod, WrongUnitsAndAFlippedRangeRateAreNotOk) {
     for (const double yaw_deg : {0.0, 90.0}) {
       SCOPED_TRACE(::testing::Message() << "yaw " << yaw_deg << " deg, ids " << track_ids);
       const CalibrationResult degrees = position_result_facing(
-          yaw_deg, track_ids, 3, [](io::RadarDetection& d) { d.azimuth = deg_from_rad(d.azimuth); });
+          yaw_deg, track_ids, 3,
+          [](io::RadarDetection& d) { d.azimuth = deg_from_rad(d.azimuth); });
       EXPECT_EQ(degrees.status, CalibrationStatus::kUnreliable);
       EXPECT_THAT(degrees.reason, HasSubstr("not in radians"));
       EXPECT_FALSE(degrees.yaw);
       const CalibrationResult radians = position_result_facing(
-          yaw_deg, track_ids, 3, [](io::RadarDetection& d) { d.azimuth = rad_from_deg(d.azimuth); });
+          yaw_deg, track_ids, 3,
+          [](io::RadarDetection& d) { d.azimuth = rad_from_deg(d.azimuth); });
       EXPECT_EQ(radians.status, CalibrationStatus::kUnreliable);
       EXPECT_THAT(radians.reason, HasSubstr("radians read as degrees"));
       const CalibrationResult flipped = position_result_facing(

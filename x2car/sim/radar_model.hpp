@@ -24,7 +24,8 @@
 //  3. Noise (Gaussian, 1 sigma): range, azimuth, range rate, each of vx and vy, RCS; x, y are
 //     computed from the noisy range and azimuth. A measurement that falls outside the field of
 //     view is not reported.
-//  4. Tracks (reported when track_ids; a cluster list otherwise): a target keeps its id while seen; missed up to max_coast_scans scans in a row it
+//  4. Tracks (reported when track_ids; a cluster list otherwise): a target keeps its id while seen;
+//  missed up to max_coast_scans scans in a row it
 //     keeps it silently, after that (or leaving the field of view) the track ends and its id is
 //     free again (re-used: the lowest free id not released in the same scan). A track breaks with
 //     track_break_probability per scan: the target is lost for [min_break_scans, max_break_scans]

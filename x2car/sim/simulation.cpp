@@ -4,9 +4,9 @@
 
 #include <algorithm>
 #include <array>
-#include <string_view>
 #include <cmath>
 #include <stdexcept>
+#include <string_view>
 
 #include "x2car/core/enum_names.hpp"
 #include "x2car/core/error.hpp"

@@ -39,8 +39,8 @@ std::vector<std::string> simulated_sensor_names();
 //   (front corners, looking sideways: a drawn yaw covers 85-95 deg), rear 180, rear_left +135,
 //   rear_right -135 (rear corners).
 struct RadarPosition {
-  std::string name;                  // "front", "left", ...: the sensor is "radar_" + name
-  double nominal_yaw_deg = 0.0;      // [deg]
+  std::string name;              // "front", "left", ...: the sensor is "radar_" + name
+  double nominal_yaw_deg = 0.0;  // [deg]
 };
 std::vector<RadarPosition> radar_positions();
 // Whether `sensor` is a radar ("radar" or "radar_<position>").

@@ -351,8 +351,8 @@ TEST(Simulation, SeveralRadarsOnOneCar) {
     const std::string sensor = "radar_" + position.name;
     if (!truth.vehicle_from_sensor.contains(sensor)) continue;
     const io::SensorMounting& mounting = truth.vehicle_from_sensor.at(sensor);
-    EXPECT_LE(std::abs(deg_from_rad(angle_difference(mounting.rotation.yaw,
-                                                     rad_from_deg(position.nominal_yaw_deg)))),
+    EXPECT_LE(std::abs(deg_from_rad(
+                  angle_difference(mounting.rotation.yaw, rad_from_deg(position.nominal_yaw_deg)))),
               5.0)
         << sensor;
     EXPECT_LE(std::abs(deg_from_rad(mounting.rotation.pitch)), 1.0);
@@ -388,8 +388,7 @@ TEST(Simulation, ClusterRadarWritesNoTrackIds) {
     write_simulation(simulate(options), folder);
     const io::RadarLog log = io::read_radar(folder / "radar", io::RadarReadOptions{});
     EXPECT_EQ(log.layout, layout);
-    const std::vector<io::RadarDetection> expected =
-        radar_measurements(tracked.radars.at("radar"));
+    const std::vector<io::RadarDetection> expected = radar_measurements(tracked.radars.at("radar"));
     ASSERT_EQ(log.detections.size(), expected.size());
     for (const io::RadarDetection& detection : log.detections) {
       EXPECT_EQ(detection.track_id, io::kNoTrackId);
