@@ -140,6 +140,7 @@ void RadarPositionMethodOptions::Check() const {
   check.in_range("min_static_object_fraction", min_static_object_fraction, 0.0, 1.0);
   check.in_range("min_range_rate_slope", min_range_rate_slope, -1.0, 1.0);
   check.non_negative("min_azimuth_span", min_azimuth_span);
+  check.positive("max_speed_scale_error", max_speed_scale_error);
 }
 
 void RadarAutoOptions::Check() const {

@@ -150,6 +150,12 @@ struct RadarPositionMethodOptions {
   // through a slit; radians read as degrees [rad]. Azimuths beyond +-pi (degrees read as
   // radians) always fail.
   double min_azimuth_span = rad_from_deg(2.0);
+  // The GNSS/INS speed's scale error is estimated from the static objects (their apparent
+  // displacements against the dead-reckoned baselines; radar_position_method.hpp) and the
+  // baselines corrected by it; a scale further than this from 1 fails: no speed sensor is that far
+  // off, the speed is in other units or broken [-].
+  bool estimate_odometry_scale = true;
+  double max_speed_scale_error = 0.1;
 
   void Check() const;  // throws std::invalid_argument naming the offending field
 };

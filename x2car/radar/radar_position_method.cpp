@@ -25,6 +25,14 @@ Eigen::Vector2d rotate(double angle, const Eigen::Vector2d& v) {
   return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
 }
 
+// The odometry scale's estimate (estimate_yaw_by_position): at most this many passes, stopping
+// when the median ratio is within kScaleConvergence of 1, and kept within what no speed sensor is
+// off by.
+constexpr int kScalePasses = 4;
+constexpr double kScaleConvergence = 1e-3;
+constexpr double kMinOdometryScale = 0.75;
+constexpr double kMaxOdometryScale = 1.33;
+
 // Straight stretches of the drive, judged at the GNSS/INS records (curvature = yaw rate / speed),
 // and the stretch each sample falls in (-1: none).
 struct StraightStretches {
@@ -113,7 +121,7 @@ std::vector<PairRecord> static_object_pairs(std::span<const RadarSample> samples
                                             std::span<const RadarObject> objects,
                                             const std::optional<Eigen::Vector2d>& lever_arm,
                                             const RadarPositionMethodOptions& options,
-                                            PairCounts& counts) {
+                                            double odometry_scale, PairCounts& counts) {
   const double max_turn = lever_arm ? options.max_pair_turn_with_lever_arm : options.max_pair_turn;
   std::vector<PairRecord> pairs;
   for (std::size_t k = 0; k < objects.size(); ++k) {
@@ -126,8 +134,8 @@ std::vector<PairRecord> static_object_pairs(std::span<const RadarSample> samples
     const std::size_t half = indices.size() / 2;
     std::vector<PairEstimate> usable;
     for (std::size_t j = 0; j + half < indices.size(); ++j) {
-      const PairEstimate estimate =
-          estimate_pair(samples[indices[j]], samples[indices[j + half]], lever_arm, options);
+      const PairEstimate estimate = estimate_pair(samples[indices[j]], samples[indices[j + half]],
+                                                  lever_arm, options, odometry_scale);
       if (!estimate.defined || estimate.baseline_m < options.min_baseline_m) {
         ++counts.short_baseline;
       } else if (std::abs(estimate.turn) > max_turn) {
@@ -155,6 +163,7 @@ std::vector<PairRecord> static_object_pairs(std::span<const RadarSample> samples
           counts.range_rate_norm += expected * expected;
         }
         ++counts.closing_pairs;
+        counts.displacement_ratios.push_back(1.0 + usable[j].closure_m / usable[j].baseline_m);
       }
       if (!closes(usable[j])) {
         ++counts.not_closing;
@@ -287,6 +296,7 @@ double static_object_fraction(const PairCounts& counts) {
 // Checks of the pairs (docs/methods.md): the range rates against the static model, the share of
 // static objects. Run whether or not there are enough pairs for a yaw.
 std::optional<std::string> check_pairs(const PairCounts& counts,
+                                       const std::optional<double>& speed_scale,
                                        const RadarPositionMethodOptions& options) {
   if (counts.closing_pairs >= options.min_pairs &&
       range_rate_slope(counts) < options.min_range_rate_slope) {
@@ -295,6 +305,12 @@ std::optional<std::string> check_pairs(const PairCounts& counts,
         "against the static model (need >= {:.2f}; -1 is a flipped range-rate sign, 0 range rates "
         "unrelated to the motion)",
         range_rate_slope(counts), options.min_range_rate_slope);
+  }
+  if (speed_scale && std::abs(*speed_scale - 1.0) > options.max_speed_scale_error) {
+    return fmt::format(
+        "the GNSS/INS speed is {:.3f} times the speed the radar sees the static objects pass at "
+        "(need within {:.0f} %): wrong speed units or a broken speed sensor",
+        *speed_scale, 100.0 * options.max_speed_scale_error);
   }
   if (counts.static_objects >= options.min_static_objects &&
       static_object_fraction(counts) < options.min_static_object_fraction) {
@@ -357,11 +373,12 @@ ObjectGrouping group_objects(std::span<const RadarSample> samples,
 
 PairEstimate estimate_pair(const RadarSample& first, const RadarSample& second,
                            const std::optional<Eigen::Vector2d>& lever_arm_in_vehicle,
-                           const RadarPositionMethodOptions& options) {
+                           const RadarPositionMethodOptions& options, double odometry_scale) {
   PairEstimate estimate;
   estimate.turn = second.ins_yaw_unwrapped - first.ins_yaw_unwrapped;
   // b: the radar's displacement in the car's frame at the first observation.
-  Eigen::Vector2d baseline = rotate(-first.ins_yaw_unwrapped, second.odometry - first.odometry);
+  Eigen::Vector2d baseline =
+      odometry_scale * rotate(-first.ins_yaw_unwrapped, second.odometry - first.odometry);
   if (lever_arm_in_vehicle) {
     baseline += rotate(estimate.turn, *lever_arm_in_vehicle) - *lever_arm_in_vehicle;
   }
@@ -425,10 +442,25 @@ RadarPositionEstimate estimate_yaw_by_position(
   const ObjectGrouping grouping = group_objects(samples, stretches.segment_of_sample, options);
   estimate.no_track_id = grouping.no_track_id;
   estimate.off_straight = grouping.off_straight;
-  const std::vector<PairRecord> pairs = static_object_pairs(
-      samples, grouping.objects, lever_arm_in_vehicle, options, estimate.counts);
+  // The dead reckoning's scale (the INS speed's scale error): the static objects' apparent
+  // displacements |w| against the baselines |b|, their median ratio applied to the baselines and
+  // estimated again until it stops changing (radar_position_method.hpp).
+  std::vector<PairRecord> pairs;
+  for (int pass = 0; pass < kScalePasses; ++pass) {
+    estimate.counts = {};
+    pairs = static_object_pairs(samples, grouping.objects, lever_arm_in_vehicle, options,
+                                estimate.odometry_scale, estimate.counts);
+    if (!options.estimate_odometry_scale || estimate.counts.closing_pairs < options.min_pairs) {
+      break;
+    }
+    const double ratio = median(estimate.counts.displacement_ratios);
+    estimate.speed_scale = 1.0 / (estimate.odometry_scale * ratio);
+    if (std::abs(ratio - 1.0) < kScaleConvergence) break;
+    estimate.odometry_scale =
+        std::clamp(estimate.odometry_scale * ratio, kMinOdometryScale, kMaxOdometryScale);
+  }
   estimate.pairs = static_cast<std::int64_t>(pairs.size());
-  estimate.unreliable_reason = check_pairs(estimate.counts, options);
+  estimate.unreliable_reason = check_pairs(estimate.counts, estimate.speed_scale, options);
   if (samples.empty()) {
     estimate.insufficient_reason = "no radar detections left for the position method";
     return estimate;
@@ -511,6 +543,7 @@ CalibrationResult position_method_figures(const RadarPositionEstimate& estimate)
   if (estimate.associated) result.support["associated_tracks"] = estimate.associated_tracks;
   if (counts.closing_pairs > 0) {
     result.diagnostics["range_rate_slope"] = range_rate_slope(counts);
+    if (estimate.speed_scale) result.diagnostics["speed_scale"] = *estimate.speed_scale;
   }
   if (counts.static_objects + counts.moving_objects > 0) {
     result.diagnostics["static_object_fraction"] = static_object_fraction(counts);

@@ -26,6 +26,20 @@
 //     observations.
 //   Weight: c / var(psi), var(psi) = var(w perpendicular to w) / |w|^2 from the nominal range and
 //     azimuth noise.
+// Speed scale: a static point's apparent displacement has the length of the true baseline, |w| =
+// |b_true|, while the dead-reckoned b carries the INS speed's scale error k, |b| = k |b_true|; the
+// median of |w| / |b| over the static objects' closing pairs is 1 / k. The baselines are multiplied
+// by it and the triangle test run again (a few passes, until the ratio is within 0.1 % of 1), so a
+// speed scale error neither rejects the static objects nor biases the test; the scale is reported
+// (diagnostics.speed_scale = k) and checked. The pair yaws do not depend on it (the directions of
+// b and w), except through the lever arm term.
+// Nothing here assumes a direction of the radar: psi comes from the directions of b and w, the
+// triangle test from their lengths, the confidence from the static model under psi_i, so a side
+// or rear radar is handled as a front one (the pair yaws are averaged on the circle).
+// Checks (docs/methods.md; RadarPositionMethodOptions): azimuths beyond +-pi or spanning a slit,
+// the range rates against the static model (a flipped sign), the speed scale, the share of static
+// objects, and the pairs' scatter against their predicted sigma; a failed check makes the result
+// unreliable.
 #pragma once
 
 #include <Eigen/Core>
@@ -70,10 +84,11 @@ struct PairEstimate {
   double confidence = 0.0;       // c, clamped to [0, 1]
 };
 
-// The triangle of observations `first` and `second` (later) of one object.
+// The triangle of observations `first` and `second` (later) of one object, the car's displacement
+// multiplied by `odometry_scale` (the estimated 1 / speed scale).
 PairEstimate estimate_pair(const RadarSample& first, const RadarSample& second,
                            const std::optional<Eigen::Vector2d>& lever_arm_in_vehicle,
-                           const RadarPositionMethodOptions& options);
+                           const RadarPositionMethodOptions& options, double odometry_scale = 1.0);
 
 // The paper's velocity-consistency confidence of one observation under yaw `yaw`, in [0, 1].
 double velocity_confidence(const RadarSample& sample, double yaw,
@@ -95,6 +110,9 @@ struct PairCounts {
   double range_rate_dot = 0.0;
   double range_rate_norm = 0.0;
   std::int64_t closing_pairs = 0;
+  // |w| / |b| of every closing pair of a static object: the dead reckoning's scale error shows as
+  // their median's distance from 1.
+  std::vector<double> displacement_ratios;
 };
 
 // The pairs' robust weighted mean (the paper averages the psi_i of eq:radar_angle_2).
@@ -120,6 +138,11 @@ struct RadarPositionEstimate {
   bool associated = false;
   std::int64_t associated_tracks = 0;
   double azimuth_span = 0.0;  // of the detections, 5th to 95th percentile [rad]
+  // The scale applied to the baselines, and the GNSS/INS speed's scale error found from the static
+  // objects (reported speed / true speed; diagnostics.speed_scale), set when there were at least
+  // min_pairs closing pairs (estimate_odometry_scale) [-].
+  double odometry_scale = 1.0;
+  std::optional<double> speed_scale;
   std::int64_t straight_segments = 0;
   std::int64_t no_track_id = 0;   // detections
   std::int64_t off_straight = 0;  // detections
@@ -144,7 +167,7 @@ RadarPositionEstimate estimate_yaw_by_position(
 // objects, static_objects, pairs, objects_with_pairs), rejections (no_track_id,
 // off_straight_segments, short_tracks, moving_objects, short_baseline_pairs, turning_pairs,
 // not_closing_pairs, low_confidence_pairs, outlier_pairs), diagnostics (median_baseline_m,
-// median_confidence, noise_vs_nominal, range_rate_slope, static_object_fraction,
+// median_confidence, noise_vs_nominal, range_rate_slope, speed_scale, static_object_fraction,
 // azimuth_span_deg; associated 1 when the objects come from the association, with
 // support.associated_tracks) and the pair_yaw series; or insufficient data with the reason and
 // the counts; or unreliable (with the yaw when there is one) when a check failed.
