@@ -257,5 +257,55 @@ void BM_CalibrateRadarTenMinutes(benchmark::State& state) {
 }
 BENCHMARK(BM_CalibrateRadarTenMinutes)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// Issue 12, item 5: the position method in every direction, with the radar's track ids and without
+// them (a cluster list; the detections associated into tracks, radar/radar_association.hpp).
+// Truth yaw 0, +-25, +-85, +-90, 180 deg, urban 60 s, seeds 1-5, the radar at
+// radar_lever_arm_for_yaw (given). Args: layout (0 Conti, 1 Delphi), track ids (1 with, 0
+// without). Counters: the largest |error| over the seeds for each truth yaw [deg] (m: minus), the
+// largest over all, the largest |error| / reported standard error, and the runs not ok.
+void BM_RadarPositionEveryDirection(benchmark::State& state) {
+  sim::RadarOptions radar = layout(static_cast<int>(state.range(0)));
+  radar.track_ids = state.range(1) != 0;
+  radar::RadarCalibrationOptions options;
+  options.method = radar::RadarMethod::kPosition;
+  double max_error_over_std = 0.0;
+  double worst = 0.0;
+  int not_ok = 0;
+  for (auto _ : state) {
+    for (const double truth_deg : {0.0, 25.0, -25.0, 85.0, -85.0, 90.0, -90.0, 180.0}) {
+      double max_error = 0.0;
+      for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+        const sim::testing::RadarDrive& drive = sim::testing::urban_radar_drive(seed, 60.0);
+        const auto detections =
+            sim::testing::radar_detections_facing(drive, truth_deg, radar, seed);
+        options.lever_arm_in_vehicle = sim::testing::radar_lever_arm_for_yaw(truth_deg).head<2>();
+        const CalibrationResult result =
+            radar::calibrate_radar(detections, drive.simulation.ins, options);
+        if (!result.ok()) {
+          ++not_ok;
+          continue;
+        }
+        const double error = std::abs(angle_difference(*result.yaw, rad_from_deg(truth_deg)));
+        max_error = std::max(max_error, deg_from_rad(error));
+        max_error_over_std = std::max(max_error_over_std, error / *result.yaw_std);
+      }
+      const int whole = static_cast<int>(std::abs(truth_deg));
+      state.counters[std::string("max_err_deg_yaw") + (truth_deg < 0 ? "m" : "") +
+                     std::to_string(whole)] = max_error;
+      worst = std::max(worst, max_error);
+    }
+  }
+  state.SetLabel(std::string(state.range(0) == 0 ? "conti" : "delphi") +
+                 (radar.track_ids ? " with track ids" : " without track ids (associated)") +
+                 ", position, urban 60 s, seeds 1-5");
+  state.counters["max_err_deg"] = worst;
+  state.counters["max_err_over_std"] = max_error_over_std;
+  state.counters["not_ok"] = not_ok;
+}
+BENCHMARK(BM_RadarPositionEveryDirection)
+    ->ArgsProduct({{0, 1}, {1, 0}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+
 }  // namespace
 }  // namespace x2car

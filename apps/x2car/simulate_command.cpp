@@ -14,6 +14,7 @@
 #include "apps/x2car/exit_codes.hpp"
 #include "apps/x2car/number_checks.hpp"
 #include "apps/x2car/output_paths.hpp"
+#include "apps/x2car/progress_bar.hpp"
 #include "apps/x2car/simulation_config.hpp"
 #include "apps/x2car/subcommand.hpp"
 #include "x2car/core/error.hpp"
@@ -124,23 +125,27 @@ void print_summary(const sim::Simulation& simulation, const std::string& out_dir
         camera.width, camera.height, camera.fx, camera.fy, camera.cx, camera.cy,
         io::to_string(camera.distortion_model));
   }
-  if (!simulation.radar.empty()) {
+  for (const auto& [sensor, scans] : simulation.radars) {
     std::size_t detections = 0;
     std::size_t moving = 0;
-    for (const sim::RadarScan& scan : simulation.radar) {
+    for (const sim::RadarScan& scan : scans) {
       detections += scan.detections.size();
       for (const auto& detection : scan.detections) moving += detection.is_moving ? 1 : 0;
     }
     std::cout << fmt::format(
-        "  radar: {} scans ({}), {} detections, {:.0f} % on moving sources\n",
-        simulation.radar.size(), io::to_string(simulation.radar_layout), detections,
+        "  {}: {} scans ({}), {} detections, {:.0f} % on moving sources\n", sensor, scans.size(),
+        io::to_string(simulation.radar_layout), detections,
         detections == 0 ? 0.0
                         : 100.0 * static_cast<double>(moving) / static_cast<double>(detections));
   }
   std::cout << "  true mountings (vehicle_from_sensor; x y z [m], roll pitch yaw [deg]):\n";
+  std::size_t width = 7;
   for (const auto& [sensor, mounting] : truth.vehicle_from_sensor) {
-    std::cout << fmt::format("    {:<7} {:7.3f} {:7.3f} {:7.3f}   {:8.4f} {:8.4f} {:8.4f}\n",
-                             sensor, mounting.translation.x(), mounting.translation.y(),
+    width = std::max(width, sensor.size());
+  }
+  for (const auto& [sensor, mounting] : truth.vehicle_from_sensor) {
+    std::cout << fmt::format("    {:<{}} {:7.3f} {:7.3f} {:7.3f}   {:8.4f} {:8.4f} {:8.4f}\n",
+                             sensor, width, mounting.translation.x(), mounting.translation.y(),
                              mounting.translation.z(), deg_from_rad(mounting.rotation.roll),
                              deg_from_rad(mounting.rotation.pitch),
                              deg_from_rad(mounting.rotation.yaw));
@@ -162,7 +167,9 @@ int run_simulate(const SimulateArguments& arguments) {
   check_output_folder({"--out", arguments.out_dir}, inputs);
   const auto start = std::chrono::steady_clock::now();
   const sim::Simulation simulation = sim::simulate(options);
-  sim::write_simulation(simulation, arguments.out_dir);
+  ProgressBar progress("lidar sweeps", spdlog::should_log(spdlog::level::info));
+  sim::write_simulation(simulation, arguments.out_dir, progress.callback());
+  progress.finish();
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   print_summary(simulation, arguments.out_dir, seconds);
@@ -196,7 +203,11 @@ RunCommand setup_simulate_command(CLI::App& command) {
   // Required unless --print-config (checked when it runs).
   command.add_option("--out", arguments->out_dir, "Folder to write (created if needed; required)")
       ->type_name("DIR");
-  command.add_option("--sensors", arguments->sensors, "Sensors to simulate, comma-separated")
+  command
+      .add_option("--sensors", arguments->sensors,
+                  "Sensors to simulate, comma-separated; radar is a front radar, "
+                  "radar_front, radar_left, radar_rear, ... several radars on one car, each "
+                  "written to its own folder")
       ->type_name("LIST")
       ->delimiter(',')
       ->check(CLI::IsMember(sim::simulated_sensor_names()))
@@ -264,13 +275,16 @@ RunCommand setup_simulate_command(CLI::App& command) {
       "DIR/trajectory.csv\n"
       "(the car's true motion at 100 Hz) and each sensor's data (DIR/ins/novatel_enu.csv and\n"
       "DIR/ins/ins.csv; DIR/lidar/<start seconds>.pcd, one per sweep; DIR/radar/, one file per\n"
-      "scan, and DIR/radar_truth.csv; DIR/camera/intrinsics.yaml, no images yet); see\n"
+      "scan, and DIR/radar_truth.csv, or DIR/radar_left/ and DIR/radar_left_truth.csv ... for\n"
+      "named radars; DIR/camera/intrinsics.yaml, no images yet); see\n"
       "docs/simulator.md and docs/formats.md. Same arguments, same bytes.\n"
       "\n"
       "Example:\n"
       "  x2car simulate --scenario urban --duration 120 --seed 3 --out /tmp/drive\n"
       "  x2car simulate --duration 60 --sensors ins,lidar --lidar-beams 32 --out /tmp/lidar\n"
       "  x2car simulate --duration 60 --sensors ins,radar --radar-format delphi --out /tmp/radar\n"
+      "  x2car simulate --duration 60 --sensors ins,radar_front,radar_left,radar_rear --out "
+      "/tmp/car\n"
       "  x2car simulate --print-config > sim.yaml   # edit, then: --config sim.yaml");
   return [arguments] { return run_simulate(*arguments); };
 }

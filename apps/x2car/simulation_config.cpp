@@ -99,6 +99,8 @@ void add_ins_and_sensors(KeyTable& t, sim::SimulationOptions& o) {
   t.number("position_markov_tau", ins.position_markov_tau, "its correlation time [s]");
   t.number("velocity_sigma_horizontal", ins.velocity_sigma_horizontal, "white, per axis [m/s]");
   t.number("velocity_sigma_vertical", ins.velocity_sigma_vertical, "[m/s]");
+  t.number("velocity_scale", ins.velocity_scale,
+           "reported velocity / true velocity (a CAN speed's scale error), [0.5, 1.5]");
   t.angle("heading_sigma", ins.heading_sigma, "white heading noise, 1 sigma [deg]");
   t.angle("heading_bias_sigma", ins.heading_bias_sigma,
           "Gauss-Markov heading bias, stationary sigma [deg]");
@@ -140,6 +142,7 @@ void add_ins_and_sensors(KeyTable& t, sim::SimulationOptions& o) {
   t.number("track_break_probability", r.track_break_probability, "per track and scan");
   t.integer("min_break_scans", r.min_break_scans, "a broken track is lost [min, max] scans");
   t.integer("max_break_scans", r.max_break_scans, "[scans]");
+  t.flag("track_ids", r.track_ids, "report track ids (false: a cluster list, no id column values)");
   t.number("ghost_birth_probability", r.ghost_birth_probability, "per near target and scan");
   t.number("ghost_death_probability", r.ghost_death_probability, "per ghost and scan");
   t.number("ghost_max_range_m", r.ghost_max_range_m, "targets that can make ghosts [m]");

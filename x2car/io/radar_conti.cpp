@@ -84,7 +84,8 @@ std::string format_conti_scan(std::span<const RadarDetection> scan, std::int64_t
   std::string text(kContiHeader);  // appended (GCC 12 false warning)
   text += '\n';
   for (const RadarDetection& d : radar_scan_rows(scan, kContiMaxTrackId, "conti")) {
-    text += fmt::format("{},{},{},{},{}\n", unix_time_ns, d.track_id,
+    text += fmt::format("{},{},{},{},{}\n", unix_time_ns,
+                        d.track_id == kNoTrackId ? std::string() : std::to_string(d.track_id),
                         format_numbers({d.vx, d.vy, d.x, d.y}, ","),
                         d.rcs_dbsm ? format_number(*d.rcs_dbsm) : std::string(),
                         d.new_track ? kContiMeasStateNew : kContiMeasStateMeasured);
@@ -119,8 +120,9 @@ ContiScan parse_scan(std::string_view text, const std::string& source_name) {
     rows.push_back(parse_row(lines[i], columns, names, source_name));
     if (i == 1) continue;
     const StampedRadarDetection& previous = rows[rows.size() - 2];
-    if (previous.unix_time_ns == rows.back().unix_time_ns &&
-        previous.detection.track_id >= rows.back().detection.track_id) {
+    const int id = rows.back().detection.track_id;
+    if (previous.unix_time_ns == rows.back().unix_time_ns && id != kNoTrackId &&
+        previous.detection.track_id >= id) {
       throw InputError(source_name, lines[i].number, "track_id",
                        fmt::format("track ids of a scan must ascend: {} follows {}",
                                    rows.back().detection.track_id, previous.detection.track_id));

@@ -4,7 +4,8 @@
 // ascending track id:
 //
 //   f0 time_ns     UTC time of the scan [integer ns since the Unix epoch]
-//   f1 track_id    object id, 0-99 (ids are re-used after a track ends)
+//   f1 track_id    object id, 0-99 (ids are re-used after a track ends); empty in a cluster list
+//                  (no tracking: io::kNoTrackId)
 //   f2 vx  f3 vy   velocity relative to the radar, in the radar frame (x forward, y left) [m/s]
 //   f4 px  f5 py   position in the radar frame [m]
 //   f6 rcs         radar cross-section [dBsm] (empty: unknown)
@@ -42,9 +43,9 @@ void write_conti_radar(const std::filesystem::path& folder,
 
 // Throws InputError naming file, line and field for: a header that does not start with
 // time_ns,track_id,vx,vy,px,py; a row whose field count differs from the header's; a non-integer
-// time or track id; a track id outside 0-99 or not ascending within a scan; a non-numeric or
-// non-finite number. An empty file (not even a header) is an error; a header without rows is an
-// empty scan.
+// time or track id; a track id outside 0-99 or not ascending within a scan (empty ids: clusters); a
+// non-numeric or non-finite number. An empty file (not even a header) is an error; a header without
+// rows is an empty scan.
 std::vector<StampedRadarDetection> parse_conti_scan(std::string_view text,
                                                     const std::string& source_name);
 

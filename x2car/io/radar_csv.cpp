@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <fstream>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -48,6 +49,8 @@ struct GenericColumns {
 
 constexpr std::array<std::string_view, 10> kGenericColumns{
     "time", "track_id", "range", "azimuth", "range_rate", "x", "y", "vx", "vy", "rcs"};
+constexpr std::array<std::string_view, 4> kGenericRequired{"time", "range", "azimuth",
+                                                           "range_rate"};
 
 GenericColumns parse_generic_header(const TextLine& line, const std::string& source) {
   GenericColumns columns;
@@ -63,9 +66,9 @@ GenericColumns parse_generic_header(const TextLine& line, const std::string& sou
       columns.ignored.push_back(fmt::format("{} ({})", quote_field(names[i]), i + 1));
     }
   }
-  for (const char* required : {"time", "range", "azimuth", "range_rate"}) {
+  for (const std::string_view required : kGenericRequired) {
     if (!columns.has(required)) {
-      throw InputError(source, line.number, required,
+      throw InputError(source, line.number, std::string(required),
                        fmt::format("missing required column; the header must name time, range, "
                                    "azimuth and range_rate (the full header is '{}')",
                                    kRadarCsvHeader));
@@ -152,6 +155,54 @@ std::string format_generic_row(const RadarDetection& d) {
                      optional_number(d.rcs_dbsm.has_value(), d.rcs_dbsm.value_or(0.0)));
 }
 
+// Whether the first line of `path` is a generic radar CSV header (names the required columns).
+bool has_generic_header(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  std::string line;
+  if (!file || !std::getline(file, line)) return false;
+  if (line.starts_with("\xEF\xBB\xBF")) line.erase(0, 3);  // UTF-8 byte order mark
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  const std::vector<std::string_view> names = split_fields(line, detect_delimiter(line));
+  return std::all_of(kGenericRequired.begin(), kGenericRequired.end(), [&](std::string_view name) {
+    return std::find(names.begin(), names.end(), name) != names.end();
+  });
+}
+
+// The .csv files of `folder` whose first line is a generic radar CSV header, sorted.
+std::vector<std::filesystem::path> generic_csv_files(const std::filesystem::path& folder) {
+  std::vector<std::filesystem::path> files;
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(folder, error)) {
+    if (entry.is_regular_file() && entry.path().extension() == ".csv" &&
+        has_generic_header(entry.path())) {
+      files.push_back(entry.path());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+// The generic CSV a radar folder holds: detections.csv, else its only .csv file with a generic
+// header. InputError naming the folder otherwise.
+std::filesystem::path generic_csv_in_folder(const std::filesystem::path& folder) {
+  std::error_code error;
+  if (std::filesystem::exists(folder / kRadarCsvFileName, error)) return folder / kRadarCsvFileName;
+  const std::vector<std::filesystem::path> files = generic_csv_files(folder);
+  if (files.size() == 1) return files.front();
+  if (files.empty()) {
+    throw InputError(folder.string(),
+                     fmt::format("no {} (the generic layout's file) in the folder, nor a CSV file "
+                                 "whose header names time, range, azimuth and range_rate",
+                                 kRadarCsvFileName));
+  }
+  std::vector<std::string> names;
+  for (const auto& file : files) names.push_back(file.filename().string());
+  throw InputError(folder.string(),
+                   fmt::format("holds {} CSV files with a generic radar header ({}); name the one "
+                               "to read {} or pass it as --input",
+                               files.size(), join(names), kRadarCsvFileName));
+}
+
 RadarLog read_radar_layout(const std::filesystem::path& input, RadarLayout layout,
                            AngleUnit angle_unit) {
   switch (layout) {
@@ -162,7 +213,7 @@ RadarLog read_radar_layout(const std::filesystem::path& input, RadarLayout layou
     case RadarLayout::kGeneric: {
       std::error_code error;
       const bool folder = std::filesystem::is_directory(input, error);
-      return read_radar_csv(folder ? input / kRadarCsvFileName : input, angle_unit);
+      return read_radar_csv(folder ? generic_csv_in_folder(input) : input, angle_unit);
     }
   }
   throw std::invalid_argument("unknown radar layout");
@@ -306,11 +357,12 @@ std::vector<RadarDetection> radar_scan_rows(std::span<const RadarDetection> scan
   });
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const RadarDetection& row = rows[i];
-    if (row.track_id < 0 || row.track_id > max_track_id) {
+    if (row.track_id == kNoTrackId) {  // a cluster: no id, nothing to repeat
+    } else if (row.track_id < 0 || row.track_id > max_track_id) {
       throw std::invalid_argument(
           fmt::format("{} radar: track id {} is outside 0-{}", layout, row.track_id, max_track_id));
     }
-    if (i > 0 && rows[i - 1].track_id == row.track_id) {
+    if (i > 0 && row.track_id != kNoTrackId && rows[i - 1].track_id == row.track_id) {
       throw std::invalid_argument(
           fmt::format("{} radar: track id {} twice in one scan", layout, row.track_id));
     }
@@ -323,6 +375,7 @@ std::vector<RadarDetection> radar_scan_rows(std::span<const RadarDetection> scan
 }
 
 int parse_radar_track_id(std::string_view text, const FieldLocation& where, int max_track_id) {
+  if (trim(text).empty()) return kNoTrackId;  // a cluster list's row
   const std::int64_t id = parse_integer(text, where);
   if (id < 0 || id > max_track_id) {
     throw InputError(where.file, where.line, where.field,
@@ -420,6 +473,11 @@ RadarLayout detect_radar_layout(const std::filesystem::path& input) {
   std::error_code error;
   if (!fs::exists(input, error)) throw InputError(input.string(), "no such file or folder");
   if (!fs::is_directory(input, error) || fs::exists(input / kRadarCsvFileName, error)) {
+    return RadarLayout::kGeneric;
+  }
+  // A folder of generic CSVs under other names: found by the header (one), or named (several).
+  if (!generic_csv_files(input).empty()) {
+    generic_csv_in_folder(input);  // throws unless there is exactly one
     return RadarLayout::kGeneric;
   }
   const RadarScanFile first = list_radar_scan_files(input).front();

@@ -111,13 +111,14 @@ struct StampedRadarDetection {
 // An empty input gives an empty log.
 RadarLog make_radar_log(std::vector<StampedRadarDetection> rows);
 
-// The scan's detections sorted by track id, for the scan-file writers. Throws
-// std::invalid_argument naming `layout` for an id outside 0..max_track_id, a repeated id, or a
-// detection without velocity.
+// The scan's detections sorted by track id, for the scan-file writers (detections without a track
+// id, kNoTrackId, first, in their order: a cluster list). Throws std::invalid_argument naming
+// `layout` for an id outside 0..max_track_id, a repeated id, or a detection without velocity.
 std::vector<RadarDetection> radar_scan_rows(std::span<const RadarDetection> scan, int max_track_id,
                                             std::string_view layout);
 
-// A track id field: an integer in [0, max_track_id]; InputError at `where` otherwise.
+// A track id field: an integer in [0, max_track_id], or empty for none (kNoTrackId: a cluster
+// list's row); InputError at `where` otherwise.
 int parse_radar_track_id(std::string_view text, const FieldLocation& where, int max_track_id);
 
 // Text of one scan file from its detections, the UTC instant of its first row [ns] and its
@@ -173,18 +174,24 @@ void check_radar_azimuth(double azimuth, std::string_view text, AngleUnit unit,
 constexpr std::string_view kRadarCsvFileName = "detections.csv";
 
 // conti and delphi: scan files in `folder`; generic: `folder`/detections.csv. `detections` times
-// are relative to `start_unix_time` [s]; the generic CSV writes them as they are.
+// are relative to `start_unix_time` [s]; the generic CSV writes them as they are. Detections
+// without a track id (kNoTrackId: a cluster list) are written with an empty id field in every
+// layout.
 void write_radar(const std::filesystem::path& folder, RadarLayout layout,
                  std::span<const RadarDetection> detections, double start_unix_time);
-// Reads what write_radar writes; for the generic layout `input` may also be the CSV file itself.
+// Reads what write_radar writes; for the generic layout `input` may also be the CSV file itself,
+// or a folder with one CSV under another name (detect_radar_layout).
 // When the files do not read as `layout` but look like another layout (detect_radar_layout), the
 // error says so ("the files look like the delphi layout: pass --layout delphi or auto").
 RadarLog read_radar(const std::filesystem::path& input, RadarLayout layout);
 
-// The layout of a radar input, from what is there: a file, or a folder holding detections.csv, is
-// generic; a folder of scan files (list_radar_scan_files) is conti when the first file's first line
-// is a header starting time_ns,track_id,vx (radar_conti.hpp), delphi when it has 15 fields
-// (radar_delphi.hpp). Throws InputError naming the path (and the scan file's line) otherwise.
+// The layout of a radar input, from what is there: a file, or a folder holding detections.csv or
+// exactly one .csv file whose header names time, range, azimuth and range_rate (another name for
+// the generic CSV, which read_radar then reads), is generic; a folder of scan files
+// (list_radar_scan_files) is conti when the first file's first line is a header starting
+// time_ns,track_id,vx (radar_conti.hpp), delphi when it has 15 fields (radar_delphi.hpp). Throws
+// InputError naming the path (and the scan file's line) otherwise, and for a folder of several
+// generic CSVs (naming them).
 RadarLayout detect_radar_layout(const std::filesystem::path& input);
 
 struct RadarReadOptions {

@@ -463,3 +463,68 @@ TEST(RadarScanFolders, RejectMissingFoldersAndFileNamesThatAreNotTimes) {
 
 }  // namespace
 }  // namespace x2car::io
+
+namespace x2car::io {
+namespace {
+
+// ---- issue 12: every wrong layout named, cluster lists, generic files found by their header ----
+
+// Each layout's folder read as each other layout: an error that names the layout that reads it.
+TEST(RadarLayouts, EveryWrongLayoutNamesTheOneThatReadsTheFiles) {
+  const auto folder = temp_folder("every_wrong_layout");
+  const std::vector<RadarLayout> layouts = {RadarLayout::kConti, RadarLayout::kDelphi,
+                                            RadarLayout::kGeneric};
+  for (const RadarLayout written : layouts) {
+    write_radar(folder / to_string(written), written, sample_detections(), kStart);
+    for (const RadarLayout given : layouts) {
+      if (given == written) continue;
+      SCOPED_TRACE(to_string(written) + " read as " + to_string(given));
+      const InputError error =
+          x2car::testing::input_error_of([&] { read_radar(folder / to_string(written), given); });
+      EXPECT_THAT(error.what(), HasSubstr("look like the " + to_string(written) +
+                                          " layout: pass --layout " + to_string(written)));
+    }
+  }
+}
+
+// A cluster list (no tracking): empty track id fields in every layout, read as kNoTrackId.
+TEST(RadarLayouts, ClusterListsWithoutTrackIdsRoundTrip) {
+  std::vector<RadarDetection> clusters = sample_detections();
+  for (RadarDetection& d : clusters) {
+    d.track_id = kNoTrackId;
+    d.new_track = false;
+  }
+  for (const RadarLayout layout :
+       {RadarLayout::kConti, RadarLayout::kDelphi, RadarLayout::kGeneric}) {
+    SCOPED_TRACE(to_string(layout));
+    const auto folder = temp_folder("clusters_" + to_string(layout));
+    write_radar(folder / "radar", layout, clusters, kStart);
+    const RadarLog log = read_radar(folder / "radar", RadarReadOptions{});
+    EXPECT_EQ(log.layout, layout);
+    ASSERT_EQ(log.detections.size(), clusters.size());
+    for (std::size_t i = 0; i < clusters.size(); ++i) {
+      EXPECT_EQ(log.detections[i].track_id, kNoTrackId);
+      // Within a scan the writers keep the clusters' order.
+      EXPECT_NEAR(log.detections[i].range, clusters[i].range, 1e-9);
+    }
+  }
+  const std::string conti = format_conti_scan(std::span(clusters).first(3), 1);
+  EXPECT_THAT(conti, HasSubstr("\n1,,"));
+}
+
+// A generic CSV under another name than detections.csv, alone in its folder, is found by its
+// header; a folder of several is not guessed.
+TEST(RadarLayouts, GenericCsvInAFolderIsFoundByItsHeader) {
+  const auto folder = temp_folder("generic_by_header");
+  write_radar_csv(folder / "radar_front.csv", sample_detections());
+  EXPECT_EQ(detect_radar_layout(folder), RadarLayout::kGeneric);
+  const RadarLog log = read_radar(folder, RadarReadOptions{});
+  EXPECT_EQ(log.detections.size(), sample_detections().size());
+  write_radar_csv(folder / "radar_rear.csv", sample_detections());
+  const InputError error =
+      x2car::testing::input_error_of([&] { read_radar(folder, RadarReadOptions{}); });
+  EXPECT_THAT(error.what(), HasSubstr("detections.csv"));
+}
+
+}  // namespace
+}  // namespace x2car::io

@@ -44,7 +44,8 @@ std::string format_row(const RadarDetection& d, std::int64_t unix_time_ns, std::
   // Velocity across the line of sight: v . (-sin bearing, cos bearing).
   const double lateral_rate = -d.vx * std::sin(d.azimuth) + d.vy * std::cos(d.azimuth);
   return fmt::format(
-      "{},{},{},{},{},{},{}\n", unix_time_ns, d.track_id,
+      "{},{},{},{},{},{},{}\n", unix_time_ns,
+      d.track_id == kNoTrackId ? std::string() : std::to_string(d.track_id),
       format_numbers({d.x, d.y, d.vx, d.vy}, ","),
       d.new_track ? kDelphiStatusNew : kDelphiStatusUpdated,
       format_numbers({d.azimuth, d.range, d.rcs_dbsm.value_or(0.0), 0.0, lateral_rate, 0.0}, ","),

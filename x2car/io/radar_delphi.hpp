@@ -3,7 +3,7 @@
 // (radar_csv.hpp), no header, 15 comma-separated fields per row, one track per row:
 //
 //   f0  time_ns      UTC time of the scan [integer ns since the Unix epoch]
-//   f1  track_id     0-63
+//   f1  track_id     0-63; empty in a cluster list (no tracking: io::kNoTrackId)
 //   f2  x   f3 y     position in the radar frame (x forward, y left) [m]
 //   f4  vx  f5 vy    velocity relative to the radar, in the radar frame [m/s]
 //   f6  status       0 or 6: no track (the row is skipped); 1: new track; other: continuing

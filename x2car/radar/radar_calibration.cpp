@@ -153,6 +153,16 @@ void RadarPositionMethodOptions::Check() const {
   check.at_least("min_static_objects", min_static_objects, 1);
   check.at_least("min_pairs", min_pairs, 2);
   check.at_least("min_objects_for_spread", min_objects_for_spread, 2);
+  check.positive("association_gate_sigmas", association_gate_sigmas);
+  check.positive("association_window_s", association_window_s);
+  check.non_negative("association_model_sigma_m", association_model_sigma_m);
+  check.non_negative("association_max_target_speed_mps", association_max_target_speed_mps);
+  check.positive("association_max_range_rate_jump_mps", association_max_range_rate_jump_mps);
+  check.positive("max_noise_vs_nominal", max_noise_vs_nominal);
+  check.in_range("min_static_object_fraction", min_static_object_fraction, 0.0, 1.0);
+  check.in_range("min_range_rate_slope", min_range_rate_slope, -1.0, 1.0);
+  check.non_negative("min_azimuth_span", min_azimuth_span);
+  check.positive("max_speed_scale_error", max_speed_scale_error);
 }
 
 void RadarAutoOptions::Check() const {

@@ -174,6 +174,47 @@ struct RadarPositionMethodOptions {
   int min_pairs = 20;              // fewer: insufficient data
   int min_objects_for_spread = 5;  // fewer: the standard error from the pairs' spread alone
 
+  // Association of detections into tracks (radar_association.hpp) for radars that report no track
+  // ids (cluster lists): used when no detection has an id and associate_without_track_ids, or
+  // always with always_associate (a tracking radar's ids are then ignored).
+  bool associate_without_track_ids = true;
+  bool always_associate = false;
+  // A detection joins a track when its normalised distance from the track's constant-velocity
+  // prediction is within this many sigmas [-].
+  double association_gate_sigmas = 4.0;
+  double association_window_s = 1.0;  // the prediction's line fits the track's last ... [s]
+  // What the constant-velocity prediction misses (the radar's path is not straight), added in
+  // quadrature to the predicted sigma [m].
+  double association_model_sigma_m = 0.2;
+  // A track's second detection: the target's own speed across the line of sight allowed beyond a
+  // static target's apparent motion [m/s].
+  double association_max_target_speed_mps = 2.0;
+  // The range rate of consecutive detections of a track changes by no more than this beyond
+  // what straight relative motion allows (radar_association.hpp) [m/s].
+  double association_max_range_rate_jump_mps = 1.5;
+
+  // Checks of the fit (docs/methods.md, position method, "Checks"); a failed one makes the result
+  // unreliable with the reason:
+  // the pairs' yaws scatter more than this many times their predicted sigma (robust sigma of the
+  // normalised residuals, diagnostics.noise_vs_nominal; ~1.0 Conti-like, ~1.3 Delphi-like) [-];
+  double max_noise_vs_nominal = 3.0;
+  // fewer than this share of the objects with usable pairs pass the triangle test [-];
+  double min_static_object_fraction = 0.1;
+  // the range rates of the static objects' detections against the static model under the pair
+  // yaws, slope sum(v_r v_r,static) / sum(v_r,static^2), below this: ~1 when right, ~-1 when the
+  // range-rate sign is flipped [-];
+  double min_range_rate_slope = 0.5;
+  // the azimuths of the detections span (5th to 95th percentile) less than this: no radar sees
+  // through a slit; radians read as degrees [rad]. Azimuths beyond +-pi (degrees read as
+  // radians) always fail.
+  double min_azimuth_span = rad_from_deg(2.0);
+  // The GNSS/INS speed's scale error is estimated from the static objects (their apparent
+  // displacements against the dead-reckoned baselines; radar_position_method.hpp) and the
+  // baselines corrected by it; a scale further than this from 1 fails: no speed sensor is that far
+  // off, the speed is in other units or broken [-].
+  bool estimate_odometry_scale = true;
+  double max_speed_scale_error = 0.1;
+
   void Check() const;  // throws std::invalid_argument naming the offending field
 };
 

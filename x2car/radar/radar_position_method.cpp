@@ -9,6 +9,8 @@
 #include "x2car/core/robust_stats.hpp"
 #include "x2car/core/rotation.hpp"
 #include "x2car/core/segmentation.hpp"
+#include "x2car/radar/radar_association.hpp"
+#include "x2car/radar/radar_position_checks.hpp"
 #include "x2car/radar/radar_velocity_method.hpp"
 
 namespace x2car::radar {
@@ -23,6 +25,14 @@ Eigen::Vector2d rotate(double angle, const Eigen::Vector2d& v) {
   const double s = std::sin(angle);
   return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
 }
+
+// The odometry scale's estimate (estimate_yaw_by_position): at most this many passes, stopping
+// when the median ratio is within kScaleConvergence of 1, and kept within what no speed sensor is
+// off by.
+constexpr int kScalePasses = 4;
+constexpr double kScaleConvergence = 1e-3;
+constexpr double kMinOdometryScale = 0.75;
+constexpr double kMaxOdometryScale = 1.33;
 
 // Straight stretches of the drive, judged at the GNSS/INS records (curvature = yaw rate / speed),
 // and the stretch each sample falls in (-1: none).
@@ -112,7 +122,7 @@ std::vector<PairRecord> static_object_pairs(std::span<const RadarSample> samples
                                             std::span<const RadarObject> objects,
                                             const std::optional<Eigen::Vector2d>& lever_arm,
                                             const RadarPositionMethodOptions& options,
-                                            PairCounts& counts) {
+                                            double odometry_scale, PairCounts& counts) {
   const double max_turn = lever_arm ? options.max_pair_turn_with_lever_arm : options.max_pair_turn;
   std::vector<PairRecord> pairs;
   for (std::size_t k = 0; k < objects.size(); ++k) {
@@ -125,8 +135,8 @@ std::vector<PairRecord> static_object_pairs(std::span<const RadarSample> samples
     const std::size_t half = indices.size() / 2;
     std::vector<PairEstimate> usable;
     for (std::size_t j = 0; j + half < indices.size(); ++j) {
-      const PairEstimate estimate =
-          estimate_pair(samples[indices[j]], samples[indices[j + half]], lever_arm, options);
+      const PairEstimate estimate = estimate_pair(samples[indices[j]], samples[indices[j + half]],
+                                                  lever_arm, options, odometry_scale);
       if (!estimate.defined || estimate.baseline_m < options.min_baseline_m) {
         ++counts.short_baseline;
       } else if (std::abs(estimate.turn) > max_turn) {
@@ -147,6 +157,15 @@ std::vector<PairRecord> static_object_pairs(std::span<const RadarSample> samples
     }
     ++counts.static_objects;
     for (std::size_t j = 0; j < usable.size(); ++j) {
+      if (closes(usable[j])) {
+        for (const std::size_t i : {indices[j], indices[j + half]}) {
+          const double expected = static_range_rate(samples[i], usable[j].yaw);
+          counts.range_rate_dot += samples[i].range_rate * expected;
+          counts.range_rate_norm += expected * expected;
+        }
+        ++counts.closing_pairs;
+        counts.displacement_ratios.push_back(1.0 + usable[j].closure_m / usable[j].baseline_m);
+      }
       if (!closes(usable[j])) {
         ++counts.not_closing;
       } else if (usable[j].confidence < options.min_confidence) {
@@ -230,6 +249,20 @@ Combination combine_pairs(std::span<const PairRecord> pairs,
   return combination;
 }
 
+// Samples with the association's track ids in place of the radar's (none).
+std::vector<RadarSample> with_associated_tracks(std::span<const RadarSample> samples,
+                                                const RadarPositionMethodOptions& options,
+                                                std::int64_t& tracks) {
+  const RadarAssociation association = associate_detections(samples, options);
+  std::vector<RadarSample> associated(samples.begin(), samples.end());
+  for (std::size_t i = 0; i < associated.size(); ++i) {
+    associated[i].track_id = association.track_of_sample[i];
+    associated[i].new_track = false;
+  }
+  tracks = association.tracks_of_two_or_more;
+  return associated;
+}
+
 }  // namespace
 
 ObjectGrouping group_objects(std::span<const RadarSample> samples,
@@ -266,11 +299,12 @@ ObjectGrouping group_objects(std::span<const RadarSample> samples,
 
 PairEstimate estimate_pair(const RadarSample& first, const RadarSample& second,
                            const std::optional<Eigen::Vector2d>& lever_arm_in_vehicle,
-                           const RadarPositionMethodOptions& options) {
+                           const RadarPositionMethodOptions& options, double odometry_scale) {
   PairEstimate estimate;
   estimate.turn = second.ins_yaw_unwrapped - first.ins_yaw_unwrapped;
   // b: the radar's displacement in the car's frame at the first observation.
-  Eigen::Vector2d baseline = rotate(-first.ins_yaw_unwrapped, second.odometry - first.odometry);
+  Eigen::Vector2d baseline =
+      odometry_scale * rotate(-first.ins_yaw_unwrapped, second.odometry - first.odometry);
   if (lever_arm_in_vehicle) {
     baseline += rotate(estimate.turn, *lever_arm_in_vehicle) - *lever_arm_in_vehicle;
   }
@@ -314,21 +348,53 @@ RadarPositionEstimate estimate_yaw_by_position(
     const std::optional<Eigen::Vector2d>& lever_arm_in_vehicle,
     const RadarPositionMethodOptions& options) {
   RadarPositionEstimate estimate;
+  estimate.azimuth_span = azimuth_span(samples);
+  if (auto failed = check_azimuths(samples, estimate.azimuth_span, options)) {
+    estimate.unreliable_reason = std::move(failed);
+    return estimate;
+  }
+  // Objects by the radar's track ids, or by associating the detections when it has none.
+  const bool has_track_ids = std::any_of(samples.begin(), samples.end(), [](const RadarSample& s) {
+    return s.track_id != io::kNoTrackId;
+  });
+  std::vector<RadarSample> associated;
+  if (options.always_associate || (!has_track_ids && options.associate_without_track_ids)) {
+    associated = with_associated_tracks(samples, options, estimate.associated_tracks);
+    estimate.associated = true;
+    samples = associated;
+  }
   const StraightStretches stretches = straight_stretches(samples, records, options.straight);
   estimate.straight_segments = static_cast<std::int64_t>(stretches.segmentation.segments.size());
   const ObjectGrouping grouping = group_objects(samples, stretches.segment_of_sample, options);
   estimate.no_track_id = grouping.no_track_id;
   estimate.off_straight = grouping.off_straight;
-  const std::vector<PairRecord> pairs = static_object_pairs(
-      samples, grouping.objects, lever_arm_in_vehicle, options, estimate.counts);
+  // The dead reckoning's scale (the INS speed's scale error): the static objects' apparent
+  // displacements |w| against the baselines |b|, their median ratio applied to the baselines and
+  // estimated again until it stops changing (radar_position_method.hpp).
+  std::vector<PairRecord> pairs;
+  for (int pass = 0; pass < kScalePasses; ++pass) {
+    estimate.counts = {};
+    pairs = static_object_pairs(samples, grouping.objects, lever_arm_in_vehicle, options,
+                                estimate.odometry_scale, estimate.counts);
+    if (!options.estimate_odometry_scale || estimate.counts.closing_pairs < options.min_pairs) {
+      break;
+    }
+    const double ratio = median(estimate.counts.displacement_ratios);
+    estimate.speed_scale = 1.0 / (estimate.odometry_scale * ratio);
+    if (std::abs(ratio - 1.0) < kScaleConvergence) break;
+    estimate.odometry_scale =
+        std::clamp(estimate.odometry_scale * ratio, kMinOdometryScale, kMaxOdometryScale);
+  }
   estimate.pairs = static_cast<std::int64_t>(pairs.size());
+  estimate.unreliable_reason = check_pairs(estimate.counts, estimate.speed_scale, options);
   if (samples.empty()) {
     estimate.insufficient_reason = "no radar detections left for the position method";
     return estimate;
   }
   if (grouping.no_track_id == static_cast<std::int64_t>(samples.size())) {
     estimate.insufficient_reason =
-        "the radar detections carry no track ids; the position method groups by track id";
+        "the radar detections carry no track ids and the association is off "
+        "(associate_without_track_ids); the position method groups by track id";
     return estimate;
   }
   if (stretches.segmentation.segments.empty()) {
@@ -349,6 +415,12 @@ RadarPositionEstimate estimate_yaw_by_position(
   }
   estimate.combination = combine_pairs(pairs, options);
   const Combination& combination = estimate.combination;
+  if (!estimate.unreliable_reason && combination.normalised_sigma > options.max_noise_vs_nominal) {
+    estimate.unreliable_reason = fmt::format(
+        "the pair yaws scatter {:.1f} times their predicted sigma (need <= {:.1f}): the radar is "
+        "far noisier than its nominal noise, or the objects are not what the triangles assume",
+        combination.normalised_sigma, options.max_noise_vs_nominal);
+  }
   if (static_cast<int>(pairs.size()) - combination.outliers < options.min_pairs) {
     estimate.insufficient_reason =
         fmt::format("only {} of {} observation pairs agree with each other; need {}",
@@ -356,6 +428,7 @@ RadarPositionEstimate estimate_yaw_by_position(
                     options.min_pairs);
     return estimate;
   }
+  estimate.combined = true;
   for (std::size_t i = 0; i < pairs.size(); ++i) {
     if (!combination.inliers[i]) continue;
     estimate.inlier_baselines_m.push_back(pairs[i].estimate.baseline_m);
@@ -366,10 +439,13 @@ RadarPositionEstimate estimate_yaw_by_position(
   return estimate;
 }
 
-CalibrationResult position_method_result(const RadarPositionEstimate& estimate) {
+namespace {
+
+// The result's figures and status without the checks' verdict.
+CalibrationResult position_method_figures(const RadarPositionEstimate& estimate) {
   CalibrationResult result;
-  if (estimate.insufficient_reason) {
-    result = insufficient_data("radar", *estimate.insufficient_reason);
+  if (estimate.insufficient_reason || !estimate.combined) {
+    result = insufficient_data("radar", estimate.insufficient_reason.value_or(""));
   } else {
     result.sensor = "radar";
     result.status = CalibrationStatus::kOk;
@@ -388,17 +464,39 @@ CalibrationResult position_method_result(const RadarPositionEstimate& estimate) 
                     {"objects", counts.objects},
                     {"static_objects", counts.static_objects},
                     {"pairs", estimate.pairs}};
-  if (estimate.insufficient_reason) return result;
+  result.diagnostics = {{"azimuth_span_deg", deg_from_rad(estimate.azimuth_span)},
+                        {"associated", estimate.associated ? 1.0 : 0.0}};
+  if (estimate.associated) result.support["associated_tracks"] = estimate.associated_tracks;
+  if (counts.closing_pairs > 0) {
+    result.diagnostics["range_rate_slope"] = range_rate_slope(counts);
+    if (estimate.speed_scale) result.diagnostics["speed_scale"] = *estimate.speed_scale;
+  }
+  if (counts.static_objects + counts.moving_objects > 0) {
+    result.diagnostics["static_object_fraction"] = static_object_fraction(counts);
+  }
+  if (!estimate.combined) return result;
   const Combination& combination = estimate.combination;
   result.yaw = combination.yaw;
   result.yaw_std = combination.standard_error;
   result.rejections["outlier_pairs"] = combination.outliers;
   result.support["pairs"] = estimate.pairs - combination.outliers;
   result.support["objects_with_pairs"] = combination.objects;
-  result.diagnostics = {{"median_baseline_m", median(estimate.inlier_baselines_m)},
-                        {"median_confidence", median(estimate.inlier_confidences)},
-                        {"noise_vs_nominal", combination.normalised_sigma}};
+  result.diagnostics["median_baseline_m"] = median(estimate.inlier_baselines_m);
+  result.diagnostics["median_confidence"] = median(estimate.inlier_confidences);
+  result.diagnostics["noise_vs_nominal"] = combination.normalised_sigma;
   result.series.push_back({"pair_yaw", "rad", estimate.inlier_times, estimate.inlier_yaws});
+  return result;
+}
+
+}  // namespace
+
+CalibrationResult position_method_result(const RadarPositionEstimate& estimate) {
+  CalibrationResult result = position_method_figures(estimate);
+  if (estimate.unreliable_reason) {
+    std::string reason = *estimate.unreliable_reason;
+    if (estimate.insufficient_reason) reason += "; also " + *estimate.insufficient_reason;
+    result = mark_unreliable(std::move(result), std::move(reason));
+  }
   return result;
 }
 

@@ -1,5 +1,6 @@
 // The position method's steps (radar_calibration.hpp; paper §III-D, "Refined calibration" with the
-// vehicle position): straight stretches, objects grouped by track id, the triangle test, a yaw from
+// vehicle position): straight stretches, objects grouped by track id (or by the association of
+// radar_association.hpp when the radar reports none), the triangle test, a yaw from
 // each pair of observations of a static object, the velocity-consistency confidence, and the robust
 // weighted mean. Internal to x2car::radar.
 //
@@ -25,6 +26,20 @@
 //     observations.
 //   Weight: c / var(psi), var(psi) = var(w perpendicular to w) / |w|^2 from the nominal range and
 //     azimuth noise.
+// Speed scale: a static point's apparent displacement has the length of the true baseline, |w| =
+// |b_true|, while the dead-reckoned b carries the INS speed's scale error k, |b| = k |b_true|; the
+// median of |w| / |b| over the static objects' closing pairs is 1 / k. The baselines are multiplied
+// by it and the triangle test run again (a few passes, until the ratio is within 0.1 % of 1), so a
+// speed scale error neither rejects the static objects nor biases the test; the scale is reported
+// (diagnostics.speed_scale = k) and checked. The pair yaws do not depend on it (the directions of
+// b and w), except through the lever arm term.
+// Nothing here assumes a direction of the radar: psi comes from the directions of b and w, the
+// triangle test from their lengths, the confidence from the static model under psi_i, so a side
+// or rear radar is handled as a front one (the pair yaws are averaged on the circle).
+// Checks (docs/methods.md; RadarPositionMethodOptions): azimuths beyond +-pi or spanning a slit,
+// the range rates against the static model (a flipped sign), the speed scale, the share of static
+// objects, and the pairs' scatter against their predicted sigma; a failed check makes the result
+// unreliable.
 #pragma once
 
 #include <Eigen/Core>
@@ -69,10 +84,11 @@ struct PairEstimate {
   double confidence = 0.0;       // c, clamped to [0, 1]
 };
 
-// The triangle of observations `first` and `second` (later) of one object.
+// The triangle of observations `first` and `second` (later) of one object, the car's displacement
+// multiplied by `odometry_scale` (the estimated 1 / speed scale).
 PairEstimate estimate_pair(const RadarSample& first, const RadarSample& second,
                            const std::optional<Eigen::Vector2d>& lever_arm_in_vehicle,
-                           const RadarPositionMethodOptions& options);
+                           const RadarPositionMethodOptions& options, double odometry_scale = 1.0);
 
 // The paper's velocity-consistency confidence of one observation under yaw `yaw`, in [0, 1].
 double velocity_confidence(const RadarSample& sample, double yaw,
@@ -88,6 +104,15 @@ struct PairCounts {
   std::int64_t low_confidence = 0;  // pairs below min_confidence
   std::int64_t static_objects = 0;
   std::int64_t objects = 0;  // with enough detections
+  // The range-rate check (RadarPositionMethodOptions::min_range_rate_slope), over both detections
+  // of every closing pair of a static object, under the pair's yaw: sums of v_r v_r,static and of
+  // v_r,static^2 [m^2/s^2], and the pairs summed.
+  double range_rate_dot = 0.0;
+  double range_rate_norm = 0.0;
+  std::int64_t closing_pairs = 0;
+  // |w| / |b| of every closing pair of a static object: the dead reckoning's scale error shows as
+  // their median's distance from 1.
+  std::vector<double> displacement_ratios;
 };
 
 // The pairs' robust weighted mean (the paper averages the psi_i of eq:radar_angle_2).
@@ -104,6 +129,20 @@ struct Combination {
 // combination and the inlier pairs (their baselines, confidences, times and yaws).
 struct RadarPositionEstimate {
   std::optional<std::string> insufficient_reason;  // set: the combination below is empty
+  // Set when a check of the input or of the fit failed (docs/methods.md): the result is
+  // unreliable, with the yaw when `combined`.
+  std::optional<std::string> unreliable_reason;
+  bool combined = false;  // the combination below holds the pairs' mean
+  // The objects came from associating detections without track ids (radar_association.hpp), not
+  // from the radar's ids; the associated tracks with two or more detections.
+  bool associated = false;
+  std::int64_t associated_tracks = 0;
+  double azimuth_span = 0.0;  // of the detections, 5th to 95th percentile [rad]
+  // The scale applied to the baselines, and the GNSS/INS speed's scale error found from the static
+  // objects (reported speed / true speed; diagnostics.speed_scale), set when there were at least
+  // min_pairs closing pairs (estimate_odometry_scale) [-].
+  double odometry_scale = 1.0;
+  std::optional<double> speed_scale;
   std::int64_t straight_segments = 0;
   std::int64_t no_track_id = 0;   // detections
   std::int64_t off_straight = 0;  // detections
@@ -117,7 +156,8 @@ struct RadarPositionEstimate {
 };
 
 // The whole method on gated samples (time order) with the per-record motion for the straight
-// stretches.
+// stretches. Samples without track ids are associated into tracks first
+// (RadarPositionMethodOptions::associate_without_track_ids, always_associate).
 RadarPositionEstimate estimate_yaw_by_position(
     std::span<const RadarSample> samples, std::span<const CarMotion> records,
     const std::optional<Eigen::Vector2d>& lever_arm_in_vehicle,
@@ -127,8 +167,10 @@ RadarPositionEstimate estimate_yaw_by_position(
 // objects, static_objects, pairs, objects_with_pairs), rejections (no_track_id,
 // off_straight_segments, short_tracks, moving_objects, short_baseline_pairs, turning_pairs,
 // not_closing_pairs, low_confidence_pairs, outlier_pairs), diagnostics (median_baseline_m,
-// median_confidence, noise_vs_nominal) and the pair_yaw series; or insufficient data with the
-// reason and the counts.
+// median_confidence, noise_vs_nominal, range_rate_slope, speed_scale, static_object_fraction,
+// azimuth_span_deg; associated 1 when the objects come from the association, with
+// support.associated_tracks) and the pair_yaw series; or insufficient data with the reason and
+// the counts; or unreliable (with the yaw when there is one) when a check failed.
 CalibrationResult position_method_result(const RadarPositionEstimate& estimate);
 
 // estimate_yaw_by_position written by position_method_result.

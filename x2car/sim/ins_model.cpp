@@ -67,6 +67,7 @@ void add_errors(const InsOptions& o, const CorrelatedErrors& correlated, Random&
   sample.position_enu.x() += random.normal(0.0, h);
   sample.position_enu.y() += random.normal(0.0, h);
   sample.position_enu.z() += random.normal(0.0, o.position_white_sigma_vertical);
+  sample.velocity_enu *= o.velocity_scale;
   sample.velocity_enu.x() += random.normal(0.0, o.velocity_sigma_horizontal);
   sample.velocity_enu.y() += random.normal(0.0, o.velocity_sigma_horizontal);
   sample.velocity_enu.z() += random.normal(0.0, o.velocity_sigma_vertical);
@@ -104,6 +105,7 @@ void InsOptions::Check() const {
   check.non_negative("position_markov_sigma_vertical", position_markov_sigma_vertical);
   check.non_negative("velocity_sigma_horizontal", velocity_sigma_horizontal);
   check.non_negative("velocity_sigma_vertical", velocity_sigma_vertical);
+  check.in_range("velocity_scale", velocity_scale, 0.5, 1.5);
   check.non_negative("heading_sigma", heading_sigma);
   check.non_negative("heading_bias_sigma", heading_bias_sigma);
   check.non_negative("roll_pitch_sigma", roll_pitch_sigma);

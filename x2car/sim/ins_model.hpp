@@ -13,8 +13,11 @@
 //             started from its stationary distribution N(0, sigma^2);
 //   velocity  white noise per axis (not tied to the position error);
 //   heading   white noise + a Gauss-Markov bias (as above, its own sigma and tau);
-//   roll, pitch  white noise.
-// Not modelled: outages, RTK fix changes, IMU lever-arm or scale errors, latency.
+//   roll, pitch  white noise;
+//   velocity scale  the reported velocity is velocity_scale times the true one (before its white
+//             noise), as a speed taken from the wheels (CAN) is off by the tyres' rolling radius;
+//             the position, and so the speed derived from it, stays true.
+// Not modelled: outages, RTK fix changes, IMU lever-arm errors, latency.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -44,6 +47,9 @@ struct InsOptions {
 
   double velocity_sigma_horizontal = 0.02;  // white, per axis [m/s]
   double velocity_sigma_vertical = 0.02;    // white [m/s]
+  // Scale error of the reported velocity (all three axes): 1.02 reports 2 % too fast, as a CAN
+  // wheel speed with worn tyres might. The position is not scaled. In [0.5, 1.5] [-].
+  double velocity_scale = 1.0;
 
   double heading_sigma = rad_from_deg(0.05);       // white [rad]
   double heading_bias_sigma = rad_from_deg(0.02);  // Gauss-Markov bias, stationary sigma [rad]

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <atomic>
+#include <mutex>
 #include <stdexcept>
 #include <vector>
 
@@ -43,18 +44,25 @@ std::string lidar_sweep_file_name(double start_time_s) {
 }
 
 LidarWriteSummary write_lidar_sweeps(const LidarSimulator& lidar,
-                                     const std::filesystem::path& folder, LidarFileFormat format) {
+                                     const std::filesystem::path& folder, LidarFileFormat format,
+                                     const SweepProgress& progress) {
   const bool pcd = format != LidarFileFormat::kKitti;
   const bool kitti = format != LidarFileFormat::kPcd;
   create_folder(folder);
   if (kitti) create_folder(folder / "velodyne");
   std::atomic<std::size_t> points{0};
+  std::mutex progress_mutex;
+  std::size_t done = 0;
   for_each_lidar_sweep(lidar, [&](LidarSweep&& sweep) {
     points += sweep.cloud.points.size();
     if (pcd) io::write_pcd(folder / lidar_sweep_file_name(sweep.start_time), sweep.cloud);
     if (kitti) {
       io::write_kitti_velodyne(folder / "velodyne" / fmt::format("{:06d}.bin", sweep.index),
                                sweep.cloud);
+    }
+    if (progress) {
+      const std::lock_guard lock(progress_mutex);
+      progress(++done, lidar.sweep_count());
     }
   });
   if (kitti) {
@@ -68,10 +76,11 @@ LidarWriteSummary write_lidar_sweeps(const LidarSimulator& lidar,
 LidarWriteSummary write_simulated_lidar(const World& world, const VehicleStates& states,
                                         const Eigen::Isometry3d& vehicle_from_lidar,
                                         const LidarOutput& output,
-                                        const std::filesystem::path& folder) {
+                                        const std::filesystem::path& folder,
+                                        const SweepProgress& progress) {
   const WorldScene scene(world);
   const LidarSimulator lidar(scene, states, vehicle_from_lidar, output.options, output.seed);
-  return write_lidar_sweeps(lidar, folder, output.format);
+  return write_lidar_sweeps(lidar, folder, output.format, progress);
 }
 
 }  // namespace x2car::sim

@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -42,15 +43,21 @@ struct LidarWriteSummary {
   std::size_t points = 0;
 };
 
+// Sweeps written and the total, e.g. for a progress bar; called under a lock, `done` increasing.
+// Must not throw.
+using SweepProgress = std::function<void(std::size_t done, std::size_t total)>;
+
 // Writes every sweep of `lidar` into `folder` (created). InputError when it cannot be written.
 LidarWriteSummary write_lidar_sweeps(const LidarSimulator& lidar,
-                                     const std::filesystem::path& folder, LidarFileFormat format);
+                                     const std::filesystem::path& folder, LidarFileFormat format,
+                                     const SweepProgress& progress = {});
 
 // Builds the world's Embree scene and writes the LiDAR at `vehicle_from_lidar` driven along
 // `states` into `folder`.
 LidarWriteSummary write_simulated_lidar(const World& world, const VehicleStates& states,
                                         const Eigen::Isometry3d& vehicle_from_lidar,
                                         const LidarOutput& output,
-                                        const std::filesystem::path& folder);
+                                        const std::filesystem::path& folder,
+                                        const SweepProgress& progress = {});
 
 }  // namespace x2car::sim

@@ -87,9 +87,10 @@ class RadarSimulator {
     observe_ghosts(reported, random, time, scan);
     observe_clutter(radar, random, time, scan);
     tracks_.end_untouched();
-    std::sort(scan.detections.begin(), scan.detections.end(), [](const auto& a, const auto& b) {
-      return a.measurement.track_id < b.measurement.track_id;
-    });
+    std::stable_sort(scan.detections.begin(), scan.detections.end(),
+                     [](const auto& a, const auto& b) {
+                       return a.measurement.track_id < b.measurement.track_id;
+                     });
     return scan;
   }
 
@@ -196,7 +197,8 @@ class RadarSimulator {
       return std::nullopt;
     }
     const std::optional<TrackId> id = tracks_.hit(key);
-    if (!id) return std::nullopt;  // every id is taken
+    if (!id) return std::nullopt;       // every id is taken
+    if (!options_.track_ids) return d;  // a cluster list: no id, never "new"
     d->measurement.track_id = d->truth.track_id = id->id;
     d->measurement.new_track = d->truth.new_track = id->is_new;
     return d;

@@ -24,7 +24,8 @@
 //  3. Noise (Gaussian, 1 sigma): range, azimuth, range rate, each of vx and vy, RCS; x, y are
 //     computed from the noisy range and azimuth. A measurement that falls outside the field of
 //     view is not reported.
-//  4. Tracks: a target keeps its id while seen; missed up to max_coast_scans scans in a row it
+//  4. Tracks (reported when track_ids; a cluster list otherwise): a target keeps its id while seen;
+//  missed up to max_coast_scans scans in a row it
 //     keeps it silently, after that (or leaving the field of view) the track ends and its id is
 //     free again (re-used: the lowest free id not released in the same scan). A track breaks with
 //     track_break_probability per scan: the target is lost for [min_break_scans, max_break_scans]
@@ -83,6 +84,11 @@ struct RadarOptions {
   double track_break_probability = 0.01;  // per track and scan
   int min_break_scans = 2;                // a broken track's target is lost this many scans...
   int max_break_scans = 6;                // ... to this many
+  // Whether the radar reports its track ids (an object list). false: a cluster list, as many
+  // real exports are: every detection has io::kNoTrackId and new_track false (the writers leave
+  // the id field empty). The bookkeeping above still runs (it decides coasting and breaks); only
+  // the ids are not reported. The truth file (radar_truth.csv) keeps no id either.
+  bool track_ids = true;
 
   // Ghosts (step 5 above).
   double ghost_birth_probability = 0.01;  // per reported target within ghost_max_range_m and scan

@@ -3,8 +3,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
+#include <string_view>
 
 #include "x2car/core/enum_names.hpp"
 #include "x2car/core/error.hpp"
@@ -26,20 +28,46 @@ constexpr std::uint64_t kLidarNoiseStream = 501;
 constexpr std::uint64_t kRadarMountingStream = 102;
 constexpr std::uint64_t kCameraMountingStream = 103;
 constexpr std::uint64_t kRadarNoiseStream = 601;
+// The named radars' (radar_positions, in table order): one stream each, + index.
+constexpr std::uint64_t kNamedRadarMountingStream = 110;
+constexpr std::uint64_t kNamedRadarNoiseStream = 610;
 
 constexpr const char* kTrajectoryFile = "trajectory.csv";
 
 // Where each sensor sits on a car: ranges of its lever arm in V [m] (origin on the road under the
-// rear axle) and the largest roll and pitch [deg] it is fitted with.
+// rear axle), the largest roll and pitch [deg] it is fitted with, and its nominal yaw [deg].
 struct MountingRange {
   double x_min, x_max, y_min, y_max, z_min, z_max, max_tilt_deg;
+  double nominal_yaw_deg = 0.0;
 };
+
+// The named radars on a car of 4.7 m (front bumper 3.8 m ahead of the rear axle, rear bumper 0.9 m
+// behind it, 1.8 m wide); the right-hand ones mirror the left-hand ones.
+struct NamedRadar {
+  const char* name;
+  MountingRange range;
+};
+constexpr double kRadarTilt = 1.0;  // [deg]
+constexpr std::array<NamedRadar, 8> kNamedRadars{{
+    {"front", {3.5, 3.9, -0.2, 0.2, 0.4, 0.6, kRadarTilt, 0.0}},
+    {"front_left", {3.3, 3.6, 0.6, 0.8, 0.4, 0.6, kRadarTilt, 25.0}},
+    {"front_right", {3.3, 3.6, -0.8, -0.6, 0.4, 0.6, kRadarTilt, -25.0}},
+    {"left", {3.0, 3.4, 0.8, 0.9, 0.4, 0.6, kRadarTilt, 90.0}},
+    {"right", {3.0, 3.4, -0.9, -0.8, 0.4, 0.6, kRadarTilt, -90.0}},
+    {"rear", {-1.1, -0.8, -0.2, 0.2, 0.4, 0.6, kRadarTilt, 180.0}},
+    {"rear_left", {-1.0, -0.6, 0.6, 0.8, 0.4, 0.6, kRadarTilt, 135.0}},
+    {"rear_right", {-1.0, -0.6, -0.8, -0.6, 0.4, 0.6, kRadarTilt, -135.0}},
+}};
+constexpr std::string_view kNamedRadarPrefix = "radar_";
 
 MountingRange mounting_range(const std::string& sensor) {
   if (sensor == "ins") return {0.0, 1.5, -0.3, 0.3, 0.8, 1.4, 3.0};     // centre console to boot
   if (sensor == "lidar") return {0.8, 1.8, -0.2, 0.2, 1.5, 2.2, 3.0};   // roof
   if (sensor == "radar") return {3.5, 3.9, -0.2, 0.2, 0.4, 0.6, 1.0};   // front bumper
   if (sensor == "camera") return {1.5, 2.0, -0.2, 0.2, 1.3, 1.5, 3.0};  // behind the windscreen
+  for (const NamedRadar& radar : kNamedRadars) {
+    if (sensor == std::string(kNamedRadarPrefix) + radar.name) return radar.range;
+  }
   throw std::invalid_argument("no mounting model for sensor '" + sensor + "'");
 }
 
@@ -55,7 +83,23 @@ io::SensorMountings draw_mountings(std::uint64_t seed) {
   drawn["radar"] = draw_mounting("radar", radar);
   Random camera(Random::derive_seed(seed, kCameraMountingStream));
   drawn["camera"] = draw_mounting("camera", camera);
+  for (std::size_t i = 0; i < kNamedRadars.size(); ++i) {
+    Random named(Random::derive_seed(seed, kNamedRadarMountingStream + i));
+    const std::string sensor = std::string(kNamedRadarPrefix) + kNamedRadars[i].name;
+    drawn[sensor] = draw_mounting(sensor, named);
+  }
   return drawn;
+}
+
+// The radar noise stream of a radar sensor: "radar" keeps its own, the named ones follow the
+// table.
+std::uint64_t radar_noise_stream(const std::string& sensor) {
+  for (std::size_t i = 0; i < kNamedRadars.size(); ++i) {
+    if (sensor == std::string(kNamedRadarPrefix) + kNamedRadars[i].name) {
+      return kNamedRadarNoiseStream + i;
+    }
+  }
+  return kRadarNoiseStream;
 }
 
 constexpr std::array<EnumName<RadarSource>, 3> kRadarSourceNames{{
@@ -70,6 +114,13 @@ void create_folder(const std::filesystem::path& folder) {
   std::error_code error;
   std::filesystem::create_directories(folder, error);
   if (error) throw InputError(folder.string(), "cannot create the folder: " + error.message());
+}
+
+void empty_folder(const std::filesystem::path& folder) {
+  std::error_code error;
+  std::filesystem::remove_all(folder, error);
+  if (error) throw InputError(folder.string(), "cannot empty: " + error.message());
+  create_folder(folder);
 }
 
 io::TrajectoryRow trajectory_row(const VehicleState& state) {
@@ -107,7 +158,30 @@ Route drive(const SimulationOptions& options, VehicleStates& states) {
 
 }  // namespace
 
-std::vector<std::string> simulated_sensor_names() { return {"ins", "lidar", "radar", "camera"}; }
+std::vector<std::string> simulated_sensor_names() {
+  std::vector<std::string> names = {"ins", "lidar", "radar", "camera"};
+  for (const NamedRadar& radar : kNamedRadars) {
+    names.push_back(std::string(kNamedRadarPrefix) + radar.name);
+  }
+  return names;
+}
+
+std::vector<RadarPosition> radar_positions() {
+  std::vector<RadarPosition> positions;
+  for (const NamedRadar& radar : kNamedRadars) {
+    positions.push_back({radar.name, radar.range.nominal_yaw_deg});
+  }
+  return positions;
+}
+
+bool is_radar_sensor(const std::string& sensor) {
+  if (sensor == "radar") return true;
+  return std::any_of(kNamedRadars.begin(), kNamedRadars.end(), [&](const NamedRadar& radar) {
+    return sensor == std::string(kNamedRadarPrefix) + radar.name;
+  });
+}
+
+std::string radar_truth_file(const std::string& sensor) { return sensor + "_truth.csv"; }
 
 void SimulationOptions::Check() const {
   const OptionsCheck check("SimulationOptions");
@@ -131,10 +205,11 @@ void SimulationOptions::Check() const {
   radar.Check();
   world_radar.Check();
   camera.Check();
-  // The layouts' track id fields: Conti 0-99, Delphi 0-63.
+  // The layouts' track id fields: Conti 0-99, Delphi 0-63 (a cluster radar writes none).
   const int max_ids = radar_layout == io::RadarLayout::kDelphi ? 64 : 100;
   check.that(
-      radar_layout == io::RadarLayout::kGeneric || radar.track_id_count <= max_ids,
+      radar_layout == io::RadarLayout::kGeneric || !radar.track_ids ||
+          radar.track_id_count <= max_ids,
       "radar.track_id_count",
       fmt::format("must be <= {} for the {} radar layout", max_ids, io::to_string(radar_layout)),
       radar.track_id_count);
@@ -148,7 +223,7 @@ io::SensorMounting draw_mounting(const std::string& sensor, Random& random) {
                           random.uniform(arm.z_min, arm.z_max)};
   mounting.rotation.roll = rad_from_deg(random.uniform(-arm.max_tilt_deg, arm.max_tilt_deg));
   mounting.rotation.pitch = rad_from_deg(random.uniform(-arm.max_tilt_deg, arm.max_tilt_deg));
-  mounting.rotation.yaw = rad_from_deg(random.uniform(-5.0, 5.0));
+  mounting.rotation.yaw = wrap_angle(rad_from_deg(arm.nominal_yaw_deg + random.uniform(-5.0, 5.0)));
   return mounting;
 }
 
@@ -180,7 +255,7 @@ Simulation simulate(const SimulationOptions& options) {
                      options.ins, Random::derive_seed(options.seed, kInsNoiseStream));
   }
   const bool lidar = truth.vehicle_from_sensor.contains("lidar");
-  const bool radar = truth.vehicle_from_sensor.contains("radar");
+  const bool radar = std::any_of(options.sensors.begin(), options.sensors.end(), is_radar_sensor);
   if (lidar || radar) {  // one world, whichever sensors see it
     WorldOptions world = options.world;
     world.road.highway_lanes = options.route.plan.highway.lanes;  // the lanes the route changes
@@ -192,13 +267,16 @@ Simulation simulate(const SimulationOptions& options) {
     simulation.lidar = LidarOutput{options.lidar, options.lidar_format,
                                    Random::derive_seed(options.seed, kLidarNoiseStream)};
   }
-  if (radar) {
+  if (radar) {  // one scene, seen by every radar
     const RadarScene scene =
         radar_scene_from_world(simulation.world, simulation.states.front().time,
                                simulation.states.back().time, options.world_radar);
-    simulation.radar = simulate_radar(
-        simulation.states, truth.vehicle_from_sensor.at("radar").vehicle_from_sensor(), scene,
-        options.radar, Random::derive_seed(options.seed, kRadarNoiseStream));
+    for (const auto& [sensor, mounting] : truth.vehicle_from_sensor) {
+      if (!is_radar_sensor(sensor)) continue;
+      simulation.radars[sensor] =
+          simulate_radar(simulation.states, mounting.vehicle_from_sensor(), scene, options.radar,
+                         Random::derive_seed(options.seed, radar_noise_stream(sensor)));
+    }
     simulation.radar_layout = options.radar_layout;
   }
   if (truth.vehicle_from_sensor.contains("camera")) simulation.camera = options.camera.intrinsics;
@@ -218,8 +296,8 @@ std::string format_radar_truth_csv(std::span<const RadarScan> scans) {
   return text;
 }
 
-void write_simulation(const Simulation& simulation, const std::filesystem::path& out_dir) {
-  std::error_code error;
+void write_simulation(const Simulation& simulation, const std::filesystem::path& out_dir,
+                      const SweepProgress& lidar_progress) {
   create_folder(out_dir);
   io::write_ground_truth(out_dir / "ground_truth.yaml", simulation.truth);
 
@@ -237,15 +315,13 @@ void write_simulation(const Simulation& simulation, const std::filesystem::path&
   if (simulation.lidar) {
     write_simulated_lidar(simulation.world, simulation.states,
                           simulation.truth.vehicle_from_sensor.at("lidar").vehicle_from_sensor(),
-                          *simulation.lidar, out_dir / "lidar");
+                          *simulation.lidar, out_dir / "lidar", lidar_progress);
   }
-  if (simulation.truth.vehicle_from_sensor.contains("radar")) {
-    std::filesystem::remove_all(out_dir / "radar", error);
-    if (error) throw InputError((out_dir / "radar").string(), "cannot empty: " + error.message());
-    create_folder(out_dir / "radar");  // even when no scan has a detection
-    io::write_radar(out_dir / "radar", simulation.radar_layout,
-                    radar_measurements(simulation.radar), simulation.start_unix_time);
-    io::write_text_file(out_dir / kRadarTruthFile, format_radar_truth_csv(simulation.radar));
+  for (const auto& [sensor, scans] : simulation.radars) {
+    empty_folder(out_dir / sensor);  // created even when no scan has a detection
+    io::write_radar(out_dir / sensor, simulation.radar_layout, radar_measurements(scans),
+                    simulation.start_unix_time);
+    io::write_text_file(out_dir / radar_truth_file(sensor), format_radar_truth_csv(scans));
   }
   if (simulation.camera) {
     create_folder(out_dir / "camera");

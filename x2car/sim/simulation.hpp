@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <span>
 #include <string>
@@ -27,8 +28,23 @@
 
 namespace x2car::sim {
 
-// The sensors the simulator models so far.
-std::vector<std::string> simulated_sensor_names();  // {"ins", "lidar", "radar", "camera"}
+// The sensors the simulator models so far: "ins", "lidar", "radar", "camera", then the named
+// radars of radar_positions() ("radar_front", "radar_left", ...).
+std::vector<std::string> simulated_sensor_names();
+
+// Where a car carries its radars. "radar" is a front radar; a car with several names each by its
+// place, "radar_<position>" (e.g. radar_front, radar_left, radar_rear), each drawn around its
+// nominal yaw (draw_mounting) and written to its own folder. The positions, nominal yaws:
+//   front 0 deg, front_left +25, front_right -25 (front corners, diagonal), left +90, right -90
+//   (front corners, looking sideways: a drawn yaw covers 85-95 deg), rear 180, rear_left +135,
+//   rear_right -135 (rear corners).
+struct RadarPosition {
+  std::string name;              // "front", "left", ...: the sensor is "radar_" + name
+  double nominal_yaw_deg = 0.0;  // [deg]
+};
+std::vector<RadarPosition> radar_positions();
+// Whether `sensor` is a radar ("radar" or "radar_<position>").
+bool is_radar_sensor(const std::string& sensor);
 
 struct SimulationOptions {
   Scenario scenario = Scenario::kUrban;
@@ -69,7 +85,9 @@ struct Simulation {
   // Set when "lidar" was simulated. Its sweeps are made while write_simulation writes them, so
   // that a long drive never holds them all in memory.
   std::optional<LidarOutput> lidar;
-  std::vector<RadarScan> radar;  // one per scan with the detections' truth; empty without "radar"
+  // Per simulated radar sensor ("radar", "radar_front", ...): one entry per scan with the
+  // detections' truth.
+  std::map<std::string, std::vector<RadarScan>> radars;
   io::RadarLayout radar_layout = io::RadarLayout::kConti;
   // Set when "camera" was simulated: its intrinsics (its mounting is in truth as "camera", that of
   // its body frame; camera_model.hpp). No images yet.
@@ -77,9 +95,10 @@ struct Simulation {
   double start_unix_time = 0.0;  // UTC of time 0 [s]
 };
 
-// A plausible mounting for a sensor of a real car, drawn from `random`: yaw within +-5 deg, pitch
-// and roll within +-3 deg (a radar's within +-1 deg: it is aligned to the road when fitted), and a
-// lever arm where that sensor usually sits. A camera's is that of its body frame
+// A plausible mounting for a sensor of a real car, drawn from `random`: yaw within +-5 deg of its
+// nominal yaw (0, or a named radar's, radar_positions), pitch and roll within +-3 deg (a radar's
+// within +-1 deg: it is aligned to the road when fitted), and a lever arm where that sensor
+// usually sits (a named radar's at its corner or bumper). A camera's is that of its body frame
 // (camera_model.hpp).
 io::SensorMounting draw_mounting(const std::string& sensor, Random& random);
 
@@ -87,10 +106,14 @@ Simulation simulate(const SimulationOptions& options);
 
 // Writes the simulation as the folder layout of docs/formats.md:
 //   ground_truth.yaml, trajectory.csv, ins/novatel_enu.csv, ins/ins.csv, lidar/ (lidar_writer.hpp),
-//   radar/ (io::write_radar in the simulation's layout; emptied first, so that a rerun leaves no
-//   stale scans) and radar_truth.csv (each detection's source), camera/intrinsics.yaml
-// Creates the folder; InputError when it cannot be written.
-void write_simulation(const Simulation& simulation, const std::filesystem::path& out_dir);
+//   per radar sensor a folder named after it, radar/ or radar_left/ ... (io::write_radar in the
+//   simulation's layout; emptied first, so that a rerun leaves no stale scans) and
+//   <sensor>_truth.csv (radar_truth.csv, radar_left_truth.csv: each detection's source),
+//   camera/intrinsics.yaml
+// Creates the folder; InputError when it cannot be written. `lidar_progress` follows the LiDAR's
+// sweeps, the slow part of a long drive (lidar_writer.hpp).
+void write_simulation(const Simulation& simulation, const std::filesystem::path& out_dir,
+                      const SweepProgress& lidar_progress = {});
 
 // The radar detections' ground truth, one row per detection in the order of the radar's files:
 //   time,track_id,source,object_id,moving,range,azimuth,range_rate
@@ -98,6 +121,8 @@ void write_simulation(const Simulation& simulation, const std::filesystem::path&
 // ghost's: its target's; -1 for clutter); moving 1 when the source moves over ground; range [m],
 // azimuth [rad], range_rate [m/s] without noise.
 constexpr const char* kRadarTruthFile = "radar_truth.csv";
+// That file of radar sensor `sensor`: "<sensor>_truth.csv".
+std::string radar_truth_file(const std::string& sensor);
 
 // The camera's intrinsics (io/camera_intrinsics.hpp), in the drive's camera/ folder.
 constexpr const char* kCameraIntrinsicsFile = "intrinsics.yaml";

@@ -267,19 +267,18 @@ std::vector<RadarTruthRow> read_radar_truth(const std::filesystem::path& path) {
   return rows;
 }
 
-TEST(Simulation, StaticRadarTargetsSatisfyTheDopplerRelationWithTheTrueYaw) {
-  // Everything from the files x2car simulate writes: the Conti scans, their truth (which
-  // detections are static scene objects), the trajectory and the true mounting.
-  const auto folder = temp_folder("simulation_radar_doppler");
-  SimulationOptions options = short_radar_drive(9);
-  options.duration_s = 40.0;
-  write_simulation(simulate(options), folder);
+// Everything from the files x2car simulate wrote to `folder`: the Conti scans of radar `sensor`,
+// their truth (which detections are static scene objects), the trajectory and the true mounting;
+// the Doppler fit starts from `start_yaw` [rad].
+void expect_static_targets_follow_the_true_yaw(const std::filesystem::path& folder,
+                                               const std::string& sensor, double start_yaw) {
+  SCOPED_TRACE(sensor);
   const io::GroundTruth truth = io::read_ground_truth(folder / "ground_truth.yaml");
-  ASSERT_TRUE(truth.vehicle_from_sensor.contains("radar"));
-  const double true_yaw = truth.vehicle_from_sensor.at("radar").rotation.yaw;
+  ASSERT_TRUE(truth.vehicle_from_sensor.contains(sensor));
+  const double true_yaw = truth.vehicle_from_sensor.at(sensor).rotation.yaw;
   const auto trajectory = io::read_trajectory_csv(folder / truth.trajectory_file);
-  const io::RadarLog log = io::read_radar(folder / "radar", io::RadarLayout::kConti);
-  const std::vector<RadarTruthRow> sources = read_radar_truth(folder / kRadarTruthFile);
+  const io::RadarLog log = io::read_radar(folder / sensor, io::RadarLayout::kConti);
+  const std::vector<RadarTruthRow> sources = read_radar_truth(folder / radar_truth_file(sensor));
   ASSERT_EQ(log.detections.size(), sources.size());
   const double clock_offset = log.start_unix_time - io::kDefaultStartUnixTime;
 
@@ -315,7 +314,7 @@ TEST(Simulation, StaticRadarTargetsSatisfyTheDopplerRelationWithTheTrueYaw) {
   for (const double r : at_truth) square_sum += r * r;
   EXPECT_LT(std::sqrt(square_sum / static_cast<double>(at_truth.size())), 0.15);
   // The least-squares yaw (Gauss-Newton on the relation) is the true one.
-  double yaw = 0.0;
+  double yaw = start_yaw;
   for (int iteration = 0; iteration < 10; ++iteration) {
     double jtj = 0.0;
     double jtr = 0.0;
@@ -326,7 +325,94 @@ TEST(Simulation, StaticRadarTargetsSatisfyTheDopplerRelationWithTheTrueYaw) {
     }
     yaw -= jtr / jtj;
   }
-  EXPECT_NEAR(deg_from_rad(yaw), deg_from_rad(true_yaw), 0.1);
+  EXPECT_NEAR(deg_from_rad(angle_difference(yaw, true_yaw)), 0.0, 0.1);
+}
+
+TEST(Simulation, StaticRadarTargetsSatisfyTheDopplerRelationWithTheTrueYaw) {
+  const auto folder = temp_folder("simulation_radar_doppler");
+  SimulationOptions options = short_radar_drive(9);
+  options.duration_s = 40.0;
+  write_simulation(simulate(options), folder);
+  expect_static_targets_follow_the_true_yaw(folder, "radar", 0.0);
+}
+
+// Issue 12: several radars on one car, each at its place and facing its way, in its own folder
+// with its own truth; the front radar "radar" is the same as without the others.
+TEST(Simulation, SeveralRadarsOnOneCar) {
+  const auto folder = temp_folder("simulation_radars");
+  SimulationOptions options = short_radar_drive(9);
+  options.duration_s = 25.0;
+  options.sensors = {"ins", "radar", "radar_left", "radar_rear", "radar_front_right"};
+  const Simulation simulation = simulate(options);
+  write_simulation(simulation, folder);
+  EXPECT_EQ(simulation.radars.size(), 4u);
+  const io::GroundTruth truth = io::read_ground_truth(folder / "ground_truth.yaml");
+  for (const RadarPosition& position : radar_positions()) {
+    const std::string sensor = "radar_" + position.name;
+    if (!truth.vehicle_from_sensor.contains(sensor)) continue;
+    const io::SensorMounting& mounting = truth.vehicle_from_sensor.at(sensor);
+    EXPECT_LE(std::abs(deg_from_rad(
+                  angle_difference(mounting.rotation.yaw, rad_from_deg(position.nominal_yaw_deg)))),
+              5.0)
+        << sensor;
+    EXPECT_LE(std::abs(deg_from_rad(mounting.rotation.pitch)), 1.0);
+    EXPECT_TRUE(std::filesystem::exists(folder / radar_truth_file(sensor)));
+    expect_static_targets_follow_the_true_yaw(folder, sensor,
+                                              rad_from_deg(position.nominal_yaw_deg));
+  }
+  const io::SensorMounting& left = truth.vehicle_from_sensor.at("radar_left");
+  EXPECT_GT(left.translation.y(), 0.7);  // on the left side, ahead of the front axle
+  EXPECT_GT(left.translation.x(), 2.8);
+  EXPECT_LT(truth.vehicle_from_sensor.at("radar_rear").translation.x(), -0.7);  // rear bumper
+  EXPECT_LT(truth.vehicle_from_sensor.at("radar_front_right").translation.y(), -0.5);
+  // The front radar's files are those of a car with it alone.
+  const auto alone = temp_folder("simulation_radars_alone");
+  options.sensors = {"ins", "radar"};
+  write_simulation(simulate(options), alone);
+  EXPECT_TRUE(folder_bytes(alone / "radar") == folder_bytes(folder / "radar"));
+  EXPECT_TRUE(is_radar_sensor("radar_rear_left"));
+  EXPECT_FALSE(is_radar_sensor("radar_roof"));
+}
+
+// A cluster radar (RadarOptions::track_ids false) writes no ids: the Conti files' id fields are
+// empty and read back as io::kNoTrackId; the detections are otherwise those of the tracking radar.
+TEST(Simulation, ClusterRadarWritesNoTrackIds) {
+  SimulationOptions options = short_radar_drive(4);
+  options.duration_s = 10.0;
+  const Simulation tracked = simulate(options);
+  options.radar.track_ids = false;
+  for (const io::RadarLayout layout :
+       {io::RadarLayout::kConti, io::RadarLayout::kDelphi, io::RadarLayout::kGeneric}) {
+    options.radar_layout = layout;
+    const auto folder = temp_folder("simulation_clusters_" + io::to_string(layout));
+    write_simulation(simulate(options), folder);
+    const io::RadarLog log = io::read_radar(folder / "radar", io::RadarReadOptions{});
+    EXPECT_EQ(log.layout, layout);
+    const std::vector<io::RadarDetection> expected = radar_measurements(tracked.radars.at("radar"));
+    ASSERT_EQ(log.detections.size(), expected.size());
+    for (const io::RadarDetection& detection : log.detections) {
+      EXPECT_EQ(detection.track_id, io::kNoTrackId);
+      EXPECT_FALSE(detection.new_track);
+    }
+  }
+}
+
+// InsOptions::velocity_scale scales the reported velocity (a CAN speed's error), not the position.
+TEST(Simulation, InsVelocityScaleScalesTheSpeedOnly) {
+  SimulationOptions options = short_urban_drive(2);
+  options.duration_s = 20.0;
+  options.ins.velocity_sigma_horizontal = 0.0;
+  options.ins.velocity_sigma_vertical = 0.0;
+  const Simulation plain = simulate(options);
+  options.ins.velocity_scale = 1.02;
+  const Simulation scaled = simulate(options);
+  ASSERT_EQ(plain.ins.size(), scaled.ins.size());
+  for (std::size_t i = 0; i < plain.ins.size(); i += 97) {
+    EXPECT_TRUE(scaled.ins[i].velocity_enu.isApprox(1.02 * plain.ins[i].velocity_enu, 1e-12));
+    EXPECT_EQ(scaled.ins[i].position_enu, plain.ins[i].position_enu);
+  }
+  options.ins.velocity_scale = 0.2;
+  EXPECT_THROW(simulate(options), std::invalid_argument);
 }
 
 // A KITTI pose file (camera poses: x right, y down, z forward) of a drive that stands 2 s, goes

@@ -155,6 +155,26 @@ ConstructedRadarDrive constructed_radar_drive(double speed, double duration_s, d
   return drive;
 }
 
+Eigen::Vector3d radar_lever_arm_for_yaw(double yaw_deg) {
+  const double side = yaw_deg < 0.0 ? -1.0 : 1.0;
+  const double magnitude = std::abs(deg_from_rad(wrap_angle(rad_from_deg(yaw_deg))));
+  if (magnitude <= 10.0) return kRadarLeverArm;
+  if (magnitude <= 60.0) return {3.45, side * 0.7, 0.5};   // front corner, diagonal
+  if (magnitude <= 120.0) return {3.2, side * 0.85, 0.5};  // front corner, sideways
+  if (magnitude <= 165.0) return {-0.8, side * 0.7, 0.5};  // rear corner
+  return {-0.95, 0.1, 0.5};                                // rear bumper
+}
+
+std::vector<io::RadarDetection> radar_detections_facing(const RadarDrive& drive, double yaw_deg,
+                                                        const RadarOptions& radar,
+                                                        std::uint64_t seed) {
+  const Eigen::Isometry3d vehicle_from_radar =
+      make_transform(EulerAngles{.roll = 0.0, .pitch = 0.0, .yaw = rad_from_deg(yaw_deg)},
+                     radar_lever_arm_for_yaw(yaw_deg));
+  return radar_measurements(
+      simulate_radar(drive.simulation.states, vehicle_from_radar, drive.scene, radar, seed));
+}
+
 VehicleStates straight_drive(double duration_s, double speed, double heading_enu, double rate_hz,
                              const Eigen::Vector3d& start) {
   const Eigen::Vector3d direction(std::cos(heading_enu), std::sin(heading_enu), 0.0);

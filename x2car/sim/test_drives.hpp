@@ -121,6 +121,17 @@ struct ConstructedRadarDrive {
 ConstructedRadarDrive constructed_radar_drive(double speed, double duration_s, double radar_yaw,
                                               const std::vector<ConstructedTarget>& targets);
 
+// A plausible lever arm [m] of a radar yawed `yaw_deg` [deg] on the car of sim::radar_positions:
+// the front bumper (kRadarLeverArm) within 10 deg of ahead, a front corner up to 120 deg (left
+// for positive yaws), a rear corner up to 165 deg, the rear bumper beyond.
+Eigen::Vector3d radar_lever_arm_for_yaw(double yaw_deg);
+
+// The drive seen by a radar at radar_lever_arm_for_yaw(yaw_deg), yawed by `yaw_deg` [deg], as a
+// radar reader returns its detections (without track ids when !radar.track_ids).
+std::vector<io::RadarDetection> radar_detections_facing(const RadarDrive& drive, double yaw_deg,
+                                                        const RadarOptions& radar,
+                                                        std::uint64_t seed);
+
 // ---- constructed vehicle truth ---------------------------------------------------------------
 
 // Level straight drive at constant `speed` [m/s] along `heading_enu` [rad], from `start` (ENU [m])
