@@ -87,11 +87,14 @@ BENCHMARK(BM_RadarAccuracy)
     ->Unit(benchmark::kMillisecond);
 
 // Issue 12: a radar facing `yaw_deg` at a plausible lever arm (radar_lever_arm_facing), seeds 1-5,
-// urban 60 s, Conti-like. Args: the direction [deg], the method (1 velocity, 0 auto). Counters:
-// the largest |error| over the seeds [deg], the largest |error| / SE, runs not ok.
+// urban 60 s, Conti-like. Args: the direction [deg], the method (1 velocity, 0 auto), track ids
+// (1: tracked objects, 0: a cluster list without ids). Counters: the largest |error| over the
+// seeds [deg], the largest |error| / SE, runs not ok.
 void BM_RadarDirections(benchmark::State& state) {
   const auto yaw_deg = static_cast<double>(state.range(0));
   const auto method = static_cast<radar::RadarMethod>(state.range(1));
+  sim::RadarOptions radar = sim::RadarOptions::conti_ars408();
+  radar.track_ids = state.range(2) != 0;
   double max_error = 0.0;
   double max_error_over_std = 0.0;
   int not_ok = 0;
@@ -99,8 +102,8 @@ void BM_RadarDirections(benchmark::State& state) {
     for (std::uint64_t seed = 1; seed <= 5; ++seed) {
       const sim::testing::RadarDrive& drive = sim::testing::urban_radar_drive(seed, 60.0);
       const Eigen::Vector3d lever_arm = sim::testing::radar_lever_arm_facing(yaw_deg);
-      const auto detections = sim::testing::radar_detections_at(
-          drive, lever_arm, yaw_deg, sim::RadarOptions::conti_ars408(), seed);
+      const auto detections =
+          sim::testing::radar_detections_at(drive, lever_arm, yaw_deg, radar, seed);
       radar::RadarCalibrationOptions options;
       options.method = method;
       options.lever_arm_in_vehicle = lever_arm.head<2>();
@@ -115,8 +118,9 @@ void BM_RadarDirections(benchmark::State& state) {
       max_error_over_std = std::max(max_error_over_std, error / *result.yaw_std);
     }
   }
-  state.SetLabel(
-      fmt::format("yaw {:g} deg, {}, urban 60 s, seeds 1-5", yaw_deg, radar::to_string(method)));
+  state.SetLabel(fmt::format("yaw {:g} deg, {}, {}, urban 60 s, seeds 1-5", yaw_deg,
+                             radar::to_string(method),
+                             radar.track_ids ? "track ids" : "no track ids"));
   state.counters["max_err_deg"] = max_error;
   state.counters["max_err_over_std"] = max_error_over_std;
   state.counters["not_ok"] = not_ok;
@@ -124,7 +128,8 @@ void BM_RadarDirections(benchmark::State& state) {
 BENCHMARK(BM_RadarDirections)
     ->ArgsProduct({{0, 25, -25, 85, -85, 90, -90, 180},
                    {static_cast<int>(radar::RadarMethod::kVelocity),
-                    static_cast<int>(radar::RadarMethod::kAuto)}})
+                    static_cast<int>(radar::RadarMethod::kAuto)},
+                   {1, 0}})
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 

@@ -111,8 +111,9 @@ RunCommand setup_calibrate_radar_command(CLI::App& command) {
   command
       .add_option("--method", arguments->method,
                   "velocity (Doppler of static targets), position (triangles of tracked static "
-                  "objects over straight stretches; needs track ids) or auto (both; reports the "
-                  "one chosen by agreement and support, and why)")
+                  "objects over straight stretches; detections without track ids are associated "
+                  "into tracks) or auto (both; reports the more precise one that passed its "
+                  "checks, and why)")
       ->type_name("NAME")
       ->check(CLI::IsMember(radar::radar_method_names()))
       ->default_str(radar::to_string(radar::RadarCalibrationOptions{}.method));

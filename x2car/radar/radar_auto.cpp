@@ -75,19 +75,23 @@ CalibrationResult choose_radar_method(CalibrationResult velocity, CalibrationRes
         deg_from_rad(take_position ? *position.yaw_std : *velocity.yaw_std),
         deg_from_rad(take_position ? *velocity.yaw_std : *position.yaw_std));
   } else {
-    take_position = static_objects >= options.min_position_objects;
+    // Both passed their own checks, and the velocity method fits the speed scale itself, so the
+    // Doppler is not presumed the culprit: the more precise method is reported, provided enough
+    // static objects stand behind the position method's standard error.
+    const bool enough_objects = static_objects >= options.min_position_objects;
+    take_position = enough_objects && *position.yaw_std < *velocity.yaw_std;
     reason = fmt::format(
         "auto: the methods disagree (velocity {:.3f}, position {:.3f} deg, {:.3f} apart, more than "
         "{:.3f}); reported the {} method: {}",
         deg_from_rad(*velocity.yaw), deg_from_rad(*position.yaw),
         deg_from_rad(std::abs(difference)), deg_from_rad(tolerance),
         take_position ? "position" : "velocity",
-        take_position
-            ? fmt::format("{} static objects support it and the Doppler is the likelier culprit "
-                          "(noisy range rates, a speed scale error or a time offset)",
-                          static_objects)
-            : fmt::format("only {} static objects support the position method (need {})",
-                          static_objects, options.min_position_objects));
+        !enough_objects
+            ? fmt::format("only {} static objects support the position method (need {})",
+                          static_objects, options.min_position_objects)
+            : fmt::format("its standard error is smaller ({:.3f} vs {:.3f} deg)",
+                          deg_from_rad(take_position ? *position.yaw_std : *velocity.yaw_std),
+                          deg_from_rad(take_position ? *velocity.yaw_std : *position.yaw_std)));
   }
   CalibrationResult result = take_position ? position : velocity;
   result.reason = reason;

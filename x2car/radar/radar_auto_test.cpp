@@ -40,13 +40,17 @@ TEST(RadarAuto, ChoosesByAgreementAndSupport) {
   EXPECT_THAT(chosen.reason, HasSubstr("agree"));
   EXPECT_DOUBLE_EQ(chosen.diagnostics.at("velocity_yaw_deg"), 10.0);
   EXPECT_EQ(chosen.support.at("position_static_objects"), 50);
-  // Disagreeing, enough static objects: position; too few: velocity.
+  // Disagreeing: the smaller standard error, the position method only with enough static objects.
   chosen = choose_radar_method(method_result("velocity", 10.0, 0.03, 0),
-                               method_result("position", 11.0, 0.05, 50), options);
-  EXPECT_EQ(chosen.method, "position");
+                               method_result("position", 10.5, 0.05, 50), options);
+  EXPECT_EQ(chosen.method, "velocity");
   EXPECT_THAT(chosen.reason, HasSubstr("disagree"));
-  chosen = choose_radar_method(method_result("velocity", 10.0, 0.03, 0),
-                               method_result("position", 11.0, 0.05, 6), options);
+  chosen = choose_radar_method(method_result("velocity", 10.0, 0.05, 0),
+                               method_result("position", 10.5, 0.03, 50), options);
+  EXPECT_EQ(chosen.method, "position");
+  EXPECT_THAT(chosen.reason, HasSubstr("standard error is smaller"));
+  chosen = choose_radar_method(method_result("velocity", 10.0, 0.05, 0),
+                               method_result("position", 10.5, 0.03, 6), options);
   EXPECT_EQ(chosen.method, "velocity");
   EXPECT_THAT(chosen.reason, HasSubstr("only 6 static objects"));
   // One failing: the other, saying why.

@@ -225,9 +225,10 @@ struct RadarAutoOptions {
   // + agreement_floor; then the one with the smaller standard error is reported.
   double agreement_sigmas = 3.0;
   double agreement_floor = rad_from_deg(0.1);  // model errors the standard errors miss [rad]
-  // When they disagree the Doppler is suspect (noisy or biased range rates, a speed scale error,
-  // a time offset: the paper's reason for the position method), and the position method is
-  // reported if at least this many static objects support it; otherwise the velocity method.
+  // When they disagree (and both passed their own checks), the one with the smaller standard error
+  // is reported; the position method only if at least this many static objects support it. The
+  // paper's reason to prefer the position method, a biased Doppler, is mostly gone: the velocity
+  // method fits the speed scale and checks its residuals (docs/methods.md).
   int min_position_objects = 10;
   // Methods further apart than this cannot both be near the truth, and neither is trusted: the
   // result is unreliable. Larger than the biases docs/methods.md tabulates for the Doppler at

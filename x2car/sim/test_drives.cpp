@@ -168,11 +168,7 @@ Eigen::Vector3d radar_lever_arm_for_yaw(double yaw_deg) {
 std::vector<io::RadarDetection> radar_detections_facing(const RadarDrive& drive, double yaw_deg,
                                                         const RadarOptions& radar,
                                                         std::uint64_t seed) {
-  const Eigen::Isometry3d vehicle_from_radar =
-      make_transform(EulerAngles{.roll = 0.0, .pitch = 0.0, .yaw = rad_from_deg(yaw_deg)},
-                     radar_lever_arm_for_yaw(yaw_deg));
-  return radar_measurements(
-      simulate_radar(drive.simulation.states, vehicle_from_radar, drive.scene, radar, seed));
+  return radar_detections_at(drive, radar_lever_arm_for_yaw(yaw_deg), yaw_deg, radar, seed);
 }
 
 VehicleStates straight_drive(double duration_s, double speed, double heading_enu, double rate_hz,
