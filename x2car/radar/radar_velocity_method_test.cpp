@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "x2car/radar/radar_calibration.hpp"
@@ -73,7 +74,8 @@ TEST(RadarVelocityMethod, DegreesOrAFlippedDopplerAreNeverOk) {
         const CalibrationResult result =
             calibrate_radar(wrong, drive.simulation.ins, options_for(method, lever_arm));
         EXPECT_FALSE(result.ok()) << result.reason;
-        EXPECT_THAT(to_string(result.status), ::testing::AnyOf("unreliable", "insufficient_data"));
+        EXPECT_THAT(std::string(to_string(result.status)),
+                    ::testing::AnyOf("unreliable", "insufficient_data"));
         if (method == RadarMethod::kVelocity && !degrees) {
           EXPECT_THAT(result.reason, HasSubstr("sign is likely flipped"));
         }
