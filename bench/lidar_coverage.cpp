@@ -40,7 +40,7 @@ struct Case {
 // Interleaved so that a quick look at the first cases sees every scenario, length and sensor.
 std::vector<Case> cases() {
   std::vector<Case> all;
-  for (std::uint64_t seed = 201; seed <= 204; ++seed) {
+  for (std::uint64_t seed = 201; seed <= 205; ++seed) {
     for (const double duration_s : {25.0, 60.0}) {
       for (const int beams : {32, 64}) {
         for (const sim::Scenario scenario : {sim::Scenario::kStraight, sim::Scenario::kUrban,
@@ -79,6 +79,9 @@ Outcome run_case(const Case& c) {
   const io::SensorMounting& truth = drive.truth();
   lidar::LidarCalibrationOptions options;
   options.keep_series = false;
+  // Short drives hold less than the default 20 s of straight driving for the yaw: the minimum is
+  // lowered knowingly (docs/methods.md), and the standard error must say what they are worth.
+  if (c.duration_s <= 30.0) options.alignment.min_valid_duration_s = 5.0;
   const CalibrationResult result =
       lidar::calibrate_lidar(lidar::testing::sweep_source(drive), options);
   Outcome outcome;

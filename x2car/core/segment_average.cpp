@@ -70,14 +70,10 @@ void set_standard_errors(std::span<const double> times, std::span<const double> 
     deviations.push_back(angle_difference(angles[i], average.value));
   }
   if (deviations.size() >= 2) {
-    average.formal_standard_error =
-        standard_deviation(deviations) / std::sqrt(static_cast<double>(deviations.size()));
-    const MovingBlockStandardError blocks =
-        moving_block_standard_error(inlier_times, deviations, options.blocks);
-    average.block_standard_error =
-        blocks.degrees_of_freedom >= 1.0
-            ? small_sample_factor(blocks.degrees_of_freedom) * blocks.standard_error
-            : blocks.standard_error;
+    const SeriesStandardError series =
+        series_standard_error(inlier_times, deviations, options.blocks);
+    average.formal_standard_error = series.formal;
+    average.block_standard_error = series.block;
   }
   const auto segments = static_cast<int>(segment_deviations.size());
   if (segments >= options.min_segments_for_spread) {

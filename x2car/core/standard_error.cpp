@@ -100,6 +100,20 @@ MovingBlockStandardError moving_block_standard_error(std::span<const double> tim
   return result;
 }
 
+SeriesStandardError series_standard_error(std::span<const double> times,
+                                          std::span<const double> values,
+                                          const MovingBlockOptions& options, double floor) {
+  if (!(floor >= 0.0)) throw std::invalid_argument("series_standard_error: floor must be >= 0");
+  const MovingBlockStandardError blocks = moving_block_standard_error(times, values, options);
+  SeriesStandardError result;
+  result.block = blocks.degrees_of_freedom >= 1.0
+                     ? small_sample_factor(blocks.degrees_of_freedom) * blocks.standard_error
+                     : blocks.standard_error;
+  result.formal = standard_deviation(values) / std::sqrt(static_cast<double>(values.size()));
+  result.combined = std::hypot(std::max(result.block, result.formal), floor);
+  return result;
+}
+
 double combined_standard_error(std::span<const double> data_standard_errors, double floor) {
   double largest = 0.0;
   for (const double se : data_standard_errors) largest = std::max(largest, se);

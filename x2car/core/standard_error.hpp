@@ -54,6 +54,22 @@ MovingBlockStandardError moving_block_standard_error(std::span<const double> tim
                                                      std::span<const double> values,
                                                      const MovingBlockOptions& options = {});
 
+// The standard error of the mean of a time series of per-sample or per-frame values, the one call
+// a calibrator needs (the camera's per-frame angles as much as the GNSS/INS samples):
+//   block    the moving-block estimate, times small_sample_factor(its degrees of freedom);
+//   formal   s / sqrt(n), the samples taken as independent;
+//   combined sqrt(max(block, formal)^2 + floor^2).
+struct SeriesStandardError {
+  double block = 0.0;
+  double formal = 0.0;
+  double combined = 0.0;
+};
+// Needs 2 values or more (as moving_block_standard_error); `floor` >= 0 in the values' unit.
+SeriesStandardError series_standard_error(std::span<const double> times,
+                                          std::span<const double> values,
+                                          const MovingBlockOptions& options = {},
+                                          double floor = 0.0);
+
 // The standard error of an estimate from its parts: the largest of the data-driven ones (each
 // already corrected for its sample size), with the bias floor added in quadrature:
 //   SE = sqrt(max(parts)^2 + floor^2).

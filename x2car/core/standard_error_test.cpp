@@ -142,6 +142,20 @@ TEST(MovingBlockStandardError, FallsBackToIndependentSamplesBelowFourSamples) {
                std::invalid_argument);
 }
 
+TEST(SeriesStandardError, IsTheLargerOfBlocksAndFormalWithTheFloorInQuadrature) {
+  std::mt19937_64 generator(14);
+  const Series series = ar1_series(600, 0.9, generator);
+  const SeriesStandardError se = series_standard_error(series.times, series.values, {}, 0.05);
+  const MovingBlockStandardError blocks = moving_block_standard_error(series.times, series.values);
+  EXPECT_DOUBLE_EQ(se.block,
+                   small_sample_factor(blocks.degrees_of_freedom) * blocks.standard_error);
+  // Correlated samples: the blocks see more than the formal error.
+  EXPECT_GT(se.block, 2.0 * se.formal);
+  EXPECT_DOUBLE_EQ(se.combined, std::hypot(se.block, 0.05));
+  EXPECT_THROW(series_standard_error(series.times, series.values, {}, -1.0),
+               std::invalid_argument);
+}
+
 TEST(CombinedStandardError, TakesTheLargestPartAndAddsTheFloorInQuadrature) {
   const std::vector<double> parts{0.3, 0.4, 0.1};
   EXPECT_DOUBLE_EQ(combined_standard_error(parts), 0.4);
