@@ -106,8 +106,7 @@ int run() {
     for (const auto& [name, figure_run] : outcomes[i].figures) figures[name].push_back(figure_run);
   }
   int status = 0;
-  for (const std::string name :
-       {"yaw", "pitch", "track-heading yaw", "velocity-direction yaw"}) {
+  for (const std::string name : {"yaw", "pitch", "track-heading yaw", "velocity-direction yaw"}) {
     fmt::print("GNSS/INS {} [deg]\n", name);
     status |= bench::report_coverage("GNSS/INS " + name, figures[name]);
   }

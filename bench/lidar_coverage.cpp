@@ -100,7 +100,8 @@ Outcome run_case(const Case& c) {
   } else {
     outcome.note = result.reason;
   }
-  outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  outcome.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return outcome;
 }
 
@@ -109,8 +110,9 @@ int run(std::size_t max_cases) {
   std::vector<Case> all = cases();
   if (max_cases < all.size()) all.resize(max_cases);
   std::vector<Outcome> outcomes(all.size());
-  tbb::parallel_for(std::size_t{0}, all.size(),
-                    [&](std::size_t i) { outcomes[i] = run_case(all[i]); }, tbb::simple_partitioner{});
+  tbb::parallel_for(
+      std::size_t{0}, all.size(), [&](std::size_t i) { outcomes[i] = run_case(all[i]); },
+      tbb::simple_partitioner{});
   std::map<std::string, std::vector<bench::CoverageRun>> figures;
   for (std::size_t i = 0; i < all.size(); ++i) {
     fmt::print("  {:<40} {:6.1f} s{}\n", all[i].label(), outcomes[i].seconds,

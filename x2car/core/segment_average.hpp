@@ -44,7 +44,7 @@ struct SegmentEstimate {
 };
 
 struct SegmentAverage {
-  double value = 0.0;           // duration-weighted mean of the segments, in (-pi, pi] [rad]
+  double value = 0.0;  // duration-weighted mean of the segments, in (-pi, pi] [rad]
   // [rad]: the largest of the three below (core/standard_error.hpp). Biases the data cannot show
   // (a device's heading bias) are not in it: the calibrators add their floors.
   double standard_error = 0.0;

@@ -77,8 +77,8 @@ MovingBlockStandardError moving_block_standard_error(std::span<const double> tim
   MovingBlockStandardError result;
   // A series shorter than two blocks is cut into two: its correlation over more than half its
   // length cannot be seen, and the few degrees of freedom (1.5) say how little that is.
-  result.block_samples = std::min(samples_per_block(times, options.block_s),
-                                  std::floor(static_cast<double>(n) / 2.0));
+  result.block_samples =
+      std::min(samples_per_block(times, options.block_s), std::floor(static_cast<double>(n) / 2.0));
   const auto block = static_cast<std::size_t>(result.block_samples);
   if (block < 2) {
     result.standard_error = standard_deviation(values) / std::sqrt(static_cast<double>(n));

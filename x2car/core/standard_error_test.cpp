@@ -87,10 +87,9 @@ TEST(MovingBlockStandardError, IsUnbiasedForIndependentSamples) {
   constexpr int kSeries = 400;
   for (int s = 0; s < kSeries; ++s) {
     const Series series = ar1_series(kSamples, 0.0, generator);
-    sum_variance +=
-        std::pow(moving_block_standard_error(series.times, series.values, {.block_s = 5.0})
-                     .standard_error,
-                 2.0);
+    sum_variance += std::pow(
+        moving_block_standard_error(series.times, series.values, {.block_s = 5.0}).standard_error,
+        2.0);
   }
   EXPECT_NEAR(sum_variance / kSeries * kSamples, 1.0, 0.1);
 }
@@ -138,8 +137,7 @@ TEST(MovingBlockStandardError, FallsBackToIndependentSamplesBelowFourSamples) {
   EXPECT_NEAR(se.standard_error, 1.0 / std::sqrt(3.0), 1e-12);
   EXPECT_THROW(moving_block_standard_error(std::vector<double>{0.0}, std::vector<double>{1.0}),
                std::invalid_argument);
-  EXPECT_THROW(moving_block_standard_error(times, values, {.block_s = 0.0}),
-               std::invalid_argument);
+  EXPECT_THROW(moving_block_standard_error(times, values, {.block_s = 0.0}), std::invalid_argument);
 }
 
 TEST(SeriesStandardError, IsTheLargerOfBlocksAndFormalWithTheFloorInQuadrature) {
@@ -152,8 +150,7 @@ TEST(SeriesStandardError, IsTheLargerOfBlocksAndFormalWithTheFloorInQuadrature) 
   // Correlated samples: the blocks see more than the formal error.
   EXPECT_GT(se.block, 2.0 * se.formal);
   EXPECT_DOUBLE_EQ(se.combined, std::hypot(se.block, 0.05));
-  EXPECT_THROW(series_standard_error(series.times, series.values, {}, -1.0),
-               std::invalid_argument);
+  EXPECT_THROW(series_standard_error(series.times, series.values, {}, -1.0), std::invalid_argument);
 }
 
 TEST(CombinedStandardError, TakesTheLargestPartAndAddsTheFloorInQuadrature) {

@@ -178,11 +178,11 @@ Eigen::Vector2d odometry_acceleration(const std::vector<OdometryStep>& steps, st
   const auto speed_at = [&](std::size_t j) {
     const std::size_t a = j == 0 ? 0 : j - 1, b = std::min(n - 1, j + 1);
     const double dt = steps[b].time - steps[a].time;
-    return dt > 0.0 ? (steps[b].world_from_lidar.translation() -
-                       steps[a].world_from_lidar.translation())
-                              .norm() /
-                          dt
-                    : 0.0;
+    return dt > 0.0
+               ? (steps[b].world_from_lidar.translation() - steps[a].world_from_lidar.translation())
+                         .norm() /
+                     dt
+               : 0.0;
   };
   const std::size_t before = i >= kHalfWidth ? i - kHalfWidth : 0;
   const std::size_t after = std::min(n - 1, i + kHalfWidth);
@@ -258,10 +258,13 @@ double frame_standard_error(std::span<const double> times, std::span<const doubl
 // The median of the per-frame values: the body's lean on its suspension lags the accelerations
 // that cause it, so regressing on them does no better than letting the median average braking
 // against speeding up and left turns against right ones. Frames more than k robust sigmas from it
-// are counted as outliers and left out of the standard error; `floor` (the ground's bias that no
-// spread shows) is added to it in quadrature.
+// are counted as outliers and left out of the standard error. The standard error is taken from the
+// residuals less each frame's expected lean (`lean`, empty: none) about the median's: the median
+// cancels the lean's swings, so they are no error of it; what it leaves is in `floor` (the
+// ground's bias that no spread shows), added in quadrature.
 FrameEstimate estimate_from_frames(std::span<const double> times, std::span<const double> values,
-                                   double floor, const LidarCalibrationOptions& options) {
+                                   std::span<const double> lean, double floor,
+                                   const LidarCalibrationOptions& options) {
   // The median's standard error over the mean's, for normally distributed values: sqrt(pi / 2).
   constexpr double kMedianEfficiency = 1.2533141373155003;
   FrameEstimate estimate;
@@ -271,6 +274,10 @@ FrameEstimate estimate_from_frames(std::span<const double> times, std::span<cons
   const std::vector<bool> used = mad_inlier_mask(residuals, options.ground_outliers);
   estimate.used = std::ranges::count(used, true);
   estimate.outliers = static_cast<std::int64_t>(values.size()) - estimate.used;
+  if (!lean.empty()) {
+    const double median_lean = median(lean);
+    for (std::size_t i = 0; i < values.size(); ++i) residuals[i] -= lean[i] - median_lean;
+  }
   estimate.standard_error = std::hypot(
       kMedianEfficiency * frame_standard_error(times, residuals, used, options.block_s), floor);
   return estimate;
@@ -304,31 +311,45 @@ struct GroundEstimate {
   FrameEstimate height;  // [m]
 };
 
-// What the median leaves of the body's lean: it cancels only when the drive's accelerations balance
-// (braking against speeding up, left against right). The median frame leans by the body's lean per
-// acceleration times the frames' median acceleration, which passes into the angles and, through the
-// pitch, into the height; no spread of the frames shows it (a 25 s drive that speeds up all along:
-// 0.8 deg of pitch). Added in quadrature to the floors.
-struct GroundBiasEstimate {
-  double roll = 0.0;      // [rad]
-  double pitch = 0.0;     // [rad]
-  double height_m = 0.0;  // [m]
+// Each frame's expected lean of the body (DESIGN §1 signs): speeding up lifts the nose (pitch
+// < 0), a left turn lifts the left side (roll > 0), and a nose that dips lowers a LiDAR ahead of
+// the point the body pitches about.
+struct BodyLean {
+  std::vector<double> roll, pitch, height;  // [rad], [rad], [m]
 };
 
-GroundBiasEstimate ground_bias_of(const GroundFrames& frames, const GroundBias& bias) {
-  const double unbalanced_pitch =
-      bias.pitch_per_acceleration * std::abs(median(frames.longitudinal_acceleration));
-  const double unbalanced_roll =
-      bias.roll_per_lateral_acceleration * std::abs(median(frames.lateral_acceleration));
-  return {std::hypot(bias.roll, unbalanced_roll), std::hypot(bias.pitch, unbalanced_pitch),
-          std::hypot(bias.height_m, bias.height_per_pitch_m * unbalanced_pitch)};
+BodyLean body_lean_of(const GroundFrames& frames, const GroundBias& bias) {
+  BodyLean lean;
+  for (std::size_t i = 0; i < frames.time.size(); ++i) {
+    const double pitch = -bias.pitch_per_acceleration * frames.longitudinal_acceleration[i];
+    lean.pitch.push_back(pitch);
+    lean.roll.push_back(bias.roll_per_lateral_acceleration * frames.lateral_acceleration[i]);
+    lean.height.push_back(-bias.height_per_pitch_m * pitch);
+  }
+  return lean;
+}
+
+// What the median leaves of the body's lean: it cancels only when the drive's accelerations balance
+// (braking against speeding up, left against right). The shift of the median when each frame's
+// expected lean is taken out, |median(v) - median(v - lean)|, is what the lean moved it by; no
+// spread of the frames shows it (a 25 s drive that speeds up all along: 0.8 deg of pitch). Added
+// in quadrature to the floor.
+double lean_floor(std::span<const double> values, std::span<const double> lean, double floor) {
+  std::vector<double> levelled(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) levelled[i] = values[i] - lean[i];
+  return std::hypot(floor, median(values) - median(levelled));
 }
 
 GroundEstimate estimate_ground(const GroundFrames& frames, const LidarCalibrationOptions& options) {
-  const GroundBiasEstimate bias = ground_bias_of(frames, options.ground_bias);
-  return {estimate_from_frames(frames.time, frames.roll, bias.roll, options),
-          estimate_from_frames(frames.time, frames.pitch, bias.pitch, options),
-          estimate_from_frames(frames.time, frames.height, bias.height_m, options)};
+  const GroundBias& bias = options.ground_bias;
+  const BodyLean lean = body_lean_of(frames, bias);
+  // The height's spread keeps the lean's swings: its lever arm is a guess (height_per_pitch_m).
+  return {estimate_from_frames(frames.time, frames.roll, lean.roll,
+                               lean_floor(frames.roll, lean.roll, bias.roll), options),
+          estimate_from_frames(frames.time, frames.pitch, lean.pitch,
+                               lean_floor(frames.pitch, lean.pitch, bias.pitch), options),
+          estimate_from_frames(frames.time, frames.height, {},
+                               lean_floor(frames.height, lean.height, bias.height_m), options)};
 }
 
 void write_ground_counts(const GroundFrames& frames, CalibrationResult& result) {

@@ -38,7 +38,8 @@ struct GroundBias {
   double pitch = rad_from_deg(0.01);  // [rad], 1 sigma
   double height_m = 0.002;            // [m], 1 sigma
   // The body leans on its suspension: the median cancels it only when the drive's accelerations
-  // balance, and what is left is the frames' median acceleration times the lean per acceleration.
+  // balance. Each frame's expected lean (its acceleration from the odometry times the lean per
+  // acceleration) is taken out of the spread, and the shift of the median it explains is added.
   // Defaults in the middle of passenger cars' range (pitch 1.5-3.5 deg/g under braking and
   // acceleration, roll 3-7 deg/g): 0.3 deg and 0.5 deg per m/s^2. A height error follows the
   // pitch by the LiDAR's distance from the point the body pitches about (a roof LiDAR: ~1.5 m).
@@ -63,8 +64,9 @@ struct LidarCalibrationOptions {
   OutlierRejectionOptions ground_outliers{.k = 3.0, .min_sigma = rad_from_deg(0.01)};
   // Standard errors come from the spread of means over moving blocks this long [s]
   // (core/standard_error.hpp): neighbouring frames see the same stretch of road and are not
-  // independent; a road's grade and crossfall change over ~100 m.
-  double block_s = 10.0;
+  // independent (the road's unevenness over tens of metres; the body's lean, whose expected part
+  // is taken out of the spread, see GroundBias).
+  double block_s = 5.0;
   // Floor of the roll's, pitch's and height's standard errors.
   GroundBias ground_bias;
   // Spline, gates and averaging of the yaw; see core/track_alignment.hpp.
