@@ -1,5 +1,6 @@
 #include "x2car/core/segment_average.hpp"
 
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -55,53 +56,43 @@ SegmentEstimate estimate_segment(std::span<const double> times, std::span<const 
   return estimate;
 }
 
-// Means of the inlier samples over consecutive blocks of block_s seconds, as deviations from
-// `reference`, weighted by each block's duration: the units the bootstrap resamples.
-void block_means(std::span<const double> times, std::span<const double> angles,
-                 const Segmentation& segmentation, const std::vector<std::uint8_t>& inliers,
-                 double reference, double block_s, std::vector<double>& values,
-                 std::vector<double>& weights) {
-  for (const TimeSegment& segment : segmentation.segments) {
-    std::size_t i = segment.begin;
-    while (i < segment.end) {
-      const double block_start = times[i];
-      double sum = 0.0;
-      std::int64_t count = 0;
-      std::size_t j = i;
-      for (; j < segment.end && times[j] < block_start + block_s; ++j) {
-        if (inliers[j] == 0) continue;
-        sum += angle_difference(angles[j], reference);
-        ++count;
-      }
-      if (count > 0) {
-        values.push_back(sum / static_cast<double>(count));
-        weights.push_back(std::max(times[j - 1] - block_start, 1e-9));
-      }
-      i = j;
-    }
-  }
-}
-
-// Standard error of the mean of the inlier samples when there are not even two blocks: treats the
-// samples as independent, which is optimistic, but there is nothing better to go on.
-double sample_standard_error(std::span<const double> angles,
-                             const std::vector<std::uint8_t>& inliers, double reference) {
+// The three data-driven standard errors of the average (core/standard_error.hpp), from the inlier
+// samples' wrapped deviations from it and the segment estimates'.
+void set_standard_errors(std::span<const double> times, std::span<const double> angles,
+                         const std::vector<double>& segment_deviations,
+                         const std::vector<double>& segment_weights,
+                         const SegmentAverageOptions& options, SegmentAverage& average) {
+  std::vector<double> inlier_times;
   std::vector<double> deviations;
   for (std::size_t i = 0; i < angles.size(); ++i) {
-    if (inliers[i] != 0) deviations.push_back(angle_difference(angles[i], reference));
+    if (average.inliers[i] == 0) continue;
+    inlier_times.push_back(times[i]);
+    deviations.push_back(angle_difference(angles[i], average.value));
   }
-  if (deviations.size() < 2) return 0.0;
-  return standard_deviation(deviations) / std::sqrt(static_cast<double>(deviations.size()));
+  if (deviations.size() >= 2) {
+    const SeriesStandardError series =
+        series_standard_error(inlier_times, deviations, options.blocks);
+    average.formal_standard_error = series.formal;
+    average.block_standard_error = series.block;
+  }
+  const auto segments = static_cast<int>(segment_deviations.size());
+  if (segments >= options.min_segments_for_spread) {
+    average.spread_standard_error =
+        small_sample_factor(segments - 1) *
+        standard_error_of_weighted_mean(segment_deviations, segment_weights);
+  }
+  const std::array<double, 3> parts{average.block_standard_error, average.spread_standard_error,
+                                    average.formal_standard_error};
+  average.standard_error = combined_standard_error(parts);
 }
 
 }  // namespace
 
 void SegmentAverageOptions::Check() const {
   outliers.Check();
-  bootstrap.Check();
   const OptionsCheck check("SegmentAverageOptions");
+  blocks.Check();
   check.at_least("min_segments_for_spread", min_segments_for_spread, 2);
-  check.positive("block_s", block_s);
 }
 
 SegmentAverage average_over_segments(std::span<const double> times, std::span<const double> angles,
@@ -134,25 +125,7 @@ SegmentAverage average_over_segments(std::span<const double> times, std::span<co
   const double mean_deviation = weighted_mean(deviations.values, segment_weights);
   average.value = wrap_angle(deviations.reference + mean_deviation);
 
-  if (static_cast<int>(average.segments.size()) >= options.min_segments_for_spread) {
-    average.standard_error = standard_error_of_weighted_mean(deviations.values, segment_weights);
-    return average;
-  }
-  std::vector<double> block_values;
-  std::vector<double> block_weights;
-  block_means(times, angles, segmentation, average.inliers, average.value, options.block_s,
-              block_values, block_weights);
-  if (block_values.size() < 2) {
-    average.standard_error = sample_standard_error(angles, average.inliers, average.value);
-    return average;
-  }
-  average.standard_error_from_bootstrap = true;
-  average.standard_error = bootstrap_standard_error(
-      block_values, block_weights,
-      [](std::span<const double> values, std::span<const double> weights) {
-        return weighted_mean(values, weights);
-      },
-      options.bootstrap);
+  set_standard_errors(times, angles, deviations.values, segment_weights, options, average);
   return average;
 }
 

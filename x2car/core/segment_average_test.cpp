@@ -51,7 +51,6 @@ TEST(SegmentAverage, RecoversTheAngleAndItsSpreadFromManySegments) {
   const SegmentAverage average =
       average_over_segments(samples.times, samples.angles, samples.segmentation);
   ASSERT_EQ(average.segments.size(), 20u);
-  EXPECT_FALSE(average.standard_error_from_bootstrap);
   // Standard error ~ segment_sigma / sqrt(20) = 0.011 deg; the estimate lies within 4 of them.
   EXPECT_NEAR(deg_from_rad(average.standard_error), 0.011, 0.005);
   EXPECT_THAT(average.value, AngleNearDeg(truth, 4 * 0.011));
@@ -83,18 +82,29 @@ TEST(SegmentAverage, AveragesAcrossThePiSeam) {
   EXPECT_LT(deg_from_rad(average.standard_error), 0.01);
 }
 
-TEST(SegmentAverage, FewSegmentsTakeTheStandardErrorFromTheBlockBootstrap) {
+TEST(SegmentAverage, FewSegmentsTakeTheStandardErrorFromMovingBlocks) {
   const double noise = rad_from_deg(0.1);
   const Samples samples = make_samples(0.3, 2, noise, 0.0, 5);
   const SegmentAverage average =
       average_over_segments(samples.times, samples.angles, samples.segmentation);
-  EXPECT_TRUE(average.standard_error_from_bootstrap);
-  // White noise: the block bootstrap sees noise / sqrt(400 samples) = 0.005 deg.
-  EXPECT_NEAR(deg_from_rad(average.standard_error), 0.005, 0.002);
-  // Same seed, same answer.
-  EXPECT_EQ(
-      average.standard_error,
-      average_over_segments(samples.times, samples.angles, samples.segmentation).standard_error);
+  // Two segments: too few for their spread.
+  EXPECT_EQ(average.spread_standard_error, 0.0);
+  // White noise: noise / sqrt(400 samples) = 0.005 deg, the formal one; the moving blocks (10 s,
+  // 40 s of samples: 4.5 degrees of freedom, Student-t x 1.35) see about as much.
+  EXPECT_NEAR(deg_from_rad(average.formal_standard_error), 0.005, 0.0005);
+  EXPECT_NEAR(deg_from_rad(average.block_standard_error), 1.35 * 0.005, 0.003);
+  EXPECT_GE(average.standard_error, average.formal_standard_error);
+}
+
+TEST(SegmentAverage, CorrelatedErrorsWidenTheStandardError) {
+  // Three segments whose offsets differ by 0.2 deg (sigma): the formal error of 600 samples knows
+  // nothing of it; the segments' spread and the moving blocks do.
+  const Samples samples = make_samples(0.3, 3, rad_from_deg(0.05), rad_from_deg(0.2), 9);
+  const SegmentAverage average =
+      average_over_segments(samples.times, samples.angles, samples.segmentation);
+  EXPECT_LT(deg_from_rad(average.formal_standard_error), 0.01);
+  EXPECT_GT(deg_from_rad(average.spread_standard_error), 0.03);
+  EXPECT_GT(deg_from_rad(average.standard_error), 0.03);
 }
 
 TEST(SegmentAverage, RejectsBadArguments) {

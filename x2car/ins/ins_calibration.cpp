@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "x2car/core/options_check.hpp"
 #include "x2car/core/track_alignment_report.hpp"
 
 namespace x2car::ins {
@@ -43,11 +44,30 @@ std::optional<std::string> disagreement_reason(const YawChoice& choice) {
          ": check for sideslip, a lever arm far from the rear axle, or velocities in another frame";
 }
 
+// The device's attitude bias, constant over the drive, is in the angles whatever the data's
+// spread: added in quadrature to their standard errors, the two yaw methods' included. The yaw
+// choice and the disagreement test compare the data's own errors (both methods share the bias).
+void add_device_bias(const DeviceAttitudeBias& bias, CalibrationResult& result) {
+  result.yaw_std = std::hypot(*result.yaw_std, bias.heading);
+  result.pitch_std = std::hypot(*result.pitch_std, bias.pitch);
+  for (const char* key : {"track_method_yaw_std_deg", "velocity_method_yaw_std_deg"}) {
+    double& standard_error_deg = result.diagnostics.at(key);
+    standard_error_deg = std::hypot(standard_error_deg, deg_from_rad(bias.heading));
+  }
+}
+
 }  // namespace
+
+void DeviceAttitudeBias::Check() const {
+  const OptionsCheck check("DeviceAttitudeBias");
+  check.non_negative("heading", heading);
+  check.non_negative("pitch", pitch);
+}
 
 void InsCalibrationOptions::Check() const {
   alignment.Check();
   disagreement.Check();
+  device_bias.Check();
 }
 
 CalibrationResult calibrate_ins(std::span<const io::InsRecord> records,
@@ -84,6 +104,7 @@ CalibrationResult calibrate_ins(std::span<const io::InsRecord> records,
     result.diagnostics["pitch_per_acceleration_deg_per_mps2"] =
         deg_from_rad(alignment.pitch_per_acceleration);
     result.reason = disagreement_reason(*choice).value_or("");
+    add_device_bias(options.device_bias, result);
   }
   result.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();

@@ -14,6 +14,20 @@
 
 namespace x2car::ins {
 
+// The device's own attitude errors that stay put over a drive (a heading bias of the GNSS/INS
+// solution, a levelling error): they pass straight into the mounting angles, and no spread of the
+// data shows them, so they are added in quadrature to the standard errors (docs/methods.md,
+// "Standard errors"). The defaults are what survey-grade RTK GNSS/INS units specify (1 sigma,
+// heading 0.02-0.05 deg, roll and pitch 0.005-0.02 deg); set them from the device's datasheet: a
+// MEMS unit with single-antenna heading is 0.1-0.5 deg. 0 turns the floor off.
+struct DeviceAttitudeBias {
+  double heading = rad_from_deg(0.03);  // [rad], 1 sigma
+  double pitch = rad_from_deg(0.01);    // [rad], 1 sigma
+
+  // Throws std::invalid_argument naming the offending field.
+  void Check() const;
+};
+
 struct InsCalibrationOptions {
   // Which yaw the result reports (both are always computed and kept in the diagnostics); auto
   // takes the smaller standard error. With SPS positions that is the velocity direction.
@@ -27,6 +41,8 @@ struct InsCalibrationOptions {
   // The velocity method's yaw is a cross-check of the track-heading yaw: a disagreement is
   // reported in `reason`.
   DisagreementTest disagreement;
+  // Floor of the yaw's and pitch's standard errors (both yaw methods share the heading bias).
+  DeviceAttitudeBias device_bias;
   bool keep_series = true;  // per-sample series for the report (large for long logs)
 
   // Throws std::invalid_argument naming the offending field.

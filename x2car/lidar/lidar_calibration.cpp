@@ -18,6 +18,7 @@
 #include "x2car/core/error.hpp"
 #include "x2car/core/options_check.hpp"
 #include "x2car/core/robust_stats.hpp"
+#include "x2car/core/standard_error.hpp"
 #include "x2car/core/track_alignment_report.hpp"
 
 namespace x2car::lidar {
@@ -179,11 +180,39 @@ struct GroundFrames {
   std::vector<double> pitch;
   std::vector<double> height;
   std::vector<Eigen::Vector3d> normal;
+  // The car's accelerations at each frame from the odometry [m/s^2], for the standard errors.
+  std::vector<double> longitudinal_acceleration;
+  std::vector<double> lateral_acceleration;  // positive turning left
   std::int64_t fitted = 0;
   std::int64_t failed = 0;
   std::int64_t turning = 0;
   std::int64_t unregistered = 0;
 };
+
+// The LiDAR's longitudinal and lateral acceleration at sweep i from the odometry, by central
+// differences over +-half_width sweeps: speed change over time, and speed times the signed turn
+// rate about the LiDAR's z axis (near enough the car's for a mounting tilted a few degrees).
+Eigen::Vector2d odometry_acceleration(const std::vector<OdometryStep>& steps, std::size_t i) {
+  constexpr std::size_t kHalfWidth = 3;
+  const std::size_t n = steps.size();
+  const auto speed_at = [&](std::size_t j) {
+    const std::size_t a = j == 0 ? 0 : j - 1, b = std::min(n - 1, j + 1);
+    const double dt = steps[b].time - steps[a].time;
+    return dt > 0.0
+               ? (steps[b].world_from_lidar.translation() - steps[a].world_from_lidar.translation())
+                         .norm() /
+                     dt
+               : 0.0;
+  };
+  const std::size_t before = i >= kHalfWidth ? i - kHalfWidth : 0;
+  const std::size_t after = std::min(n - 1, i + kHalfWidth);
+  const double dt = steps[after].time - steps[before].time;
+  if (n < 3 || dt <= 0.0) return Eigen::Vector2d::Zero();
+  const Eigen::AngleAxisd turn(steps[before].world_from_lidar.linear().transpose() *
+                               steps[after].world_from_lidar.linear());
+  const double yaw_rate = turn.angle() * turn.axis().z() / dt;
+  return {(speed_at(after) - speed_at(before)) / dt, speed_at(i) * yaw_rate};
+}
 
 GroundFrames gate_ground_frames(const SweepPass& pass, const std::vector<double>& turn_rate,
                                 const LidarCalibrationOptions& options) {
@@ -214,6 +243,9 @@ GroundFrames gate_ground_frames(const SweepPass& pass, const std::vector<double>
     frames.pitch.push_back(pitch_from_ground(plane.normal_in_lidar));
     frames.height.push_back(plane.height_m);
     frames.normal.push_back(plane.normal_in_lidar);
+    const Eigen::Vector2d acceleration = odometry_acceleration(pass.steps, i);
+    frames.longitudinal_acceleration.push_back(acceleration.x());
+    frames.lateral_acceleration.push_back(acceleration.y());
   }
   return frames;
 }
@@ -226,47 +258,32 @@ struct FrameEstimate {
   std::int64_t outliers = 0;
 };
 
-// Standard error from the spread of the means of blocks `block_s` long: frames close in time see
-// the same road and share their errors, so their count overstates the information.
-double block_standard_error(std::span<const double> times, std::span<const double> residuals,
+// Standard error of the mean of the used frames' residuals (core/standard_error.hpp): the moving
+// blocks over time, Student-t corrected for their few degrees of freedom (frames close in time see
+// the same stretch of road and share its errors, so their count overstates the information), never
+// below the frames taken as independent.
+double frame_standard_error(std::span<const double> times, std::span<const double> residuals,
                             const std::vector<bool>& used, double block_s) {
-  std::vector<double> block_means;
-  std::vector<double> block_weights;
-  double sum = 0.0;
-  double count = 0.0;
-  double block_start = times.empty() ? 0.0 : times.front();
-  const auto close_block = [&] {
-    if (count > 0.0) {
-      block_means.push_back(sum / count);
-      block_weights.push_back(count);
-    }
-    sum = count = 0.0;
-  };
+  std::vector<double> used_times;
+  std::vector<double> used_residuals;
   for (std::size_t i = 0; i < times.size(); ++i) {
-    if (times[i] - block_start >= block_s) {
-      close_block();
-      block_start = times[i];
-    }
     if (!used[i]) continue;
-    sum += residuals[i];
-    count += 1.0;
+    used_times.push_back(times[i]);
+    used_residuals.push_back(residuals[i]);
   }
-  close_block();
-  if (block_means.size() >= 2) return standard_error_of_weighted_mean(block_means, block_weights);
-  // One block: its frames' spread over their count is the best there is, and optimistic.
-  std::vector<double> kept;
-  for (std::size_t i = 0; i < residuals.size(); ++i) {
-    if (used[i]) kept.push_back(residuals[i]);
-  }
-  return kept.size() >= 2 ? standard_deviation(kept) / std::sqrt(static_cast<double>(kept.size()))
-                          : 0.0;
+  if (used_residuals.size() < 2) return 0.0;
+  return series_standard_error(used_times, used_residuals, {.block_s = block_s}).combined;
 }
 
 // The median of the per-frame values: the body's lean on its suspension lags the accelerations
 // that cause it, so regressing on them does no better than letting the median average braking
 // against speeding up and left turns against right ones. Frames more than k robust sigmas from it
-// are counted as outliers and left out of the standard error.
+// are counted as outliers and left out of the standard error. The standard error is taken from the
+// residuals less each frame's expected lean (`lean`, empty: none) about the median's: the median
+// cancels the lean's swings, so they are no error of it; what it leaves is in `floor` (the
+// ground's bias that no spread shows), added in quadrature.
 FrameEstimate estimate_from_frames(std::span<const double> times, std::span<const double> values,
+                                   std::span<const double> lean, double floor,
                                    const LidarCalibrationOptions& options) {
   // The median's standard error over the mean's, for normally distributed values: sqrt(pi / 2).
   constexpr double kMedianEfficiency = 1.2533141373155003;
@@ -277,8 +294,12 @@ FrameEstimate estimate_from_frames(std::span<const double> times, std::span<cons
   const std::vector<bool> used = mad_inlier_mask(residuals, options.ground_outliers);
   estimate.used = std::ranges::count(used, true);
   estimate.outliers = static_cast<std::int64_t>(values.size()) - estimate.used;
-  estimate.standard_error =
-      kMedianEfficiency * block_standard_error(times, residuals, used, options.block_s);
+  if (!lean.empty()) {
+    const double median_lean = median(lean);
+    for (std::size_t i = 0; i < values.size(); ++i) residuals[i] -= lean[i] - median_lean;
+  }
+  estimate.standard_error = std::hypot(
+      kMedianEfficiency * frame_standard_error(times, residuals, used, options.block_s), floor);
   return estimate;
 }
 
@@ -310,10 +331,45 @@ struct GroundEstimate {
   FrameEstimate height;  // [m]
 };
 
+// Each frame's expected lean of the body (DESIGN §1 signs): speeding up lifts the nose (pitch
+// < 0), a left turn lifts the left side (roll > 0), and a nose that dips lowers a LiDAR ahead of
+// the point the body pitches about.
+struct BodyLean {
+  std::vector<double> roll, pitch, height;  // [rad], [rad], [m]
+};
+
+BodyLean body_lean_of(const GroundFrames& frames, const GroundBias& bias) {
+  BodyLean lean;
+  for (std::size_t i = 0; i < frames.time.size(); ++i) {
+    const double pitch = -bias.pitch_per_acceleration * frames.longitudinal_acceleration[i];
+    lean.pitch.push_back(pitch);
+    lean.roll.push_back(bias.roll_per_lateral_acceleration * frames.lateral_acceleration[i]);
+    lean.height.push_back(-bias.height_per_pitch_m * pitch);
+  }
+  return lean;
+}
+
+// What the median leaves of the body's lean: it cancels only when the drive's accelerations balance
+// (braking against speeding up, left against right). The shift of the median when each frame's
+// expected lean is taken out, |median(v) - median(v - lean)|, is what the lean moved it by; no
+// spread of the frames shows it (a 25 s drive that speeds up all along: 0.8 deg of pitch). Added
+// in quadrature to the floor.
+double lean_floor(std::span<const double> values, std::span<const double> lean, double floor) {
+  std::vector<double> levelled(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) levelled[i] = values[i] - lean[i];
+  return std::hypot(floor, median(values) - median(levelled));
+}
+
 GroundEstimate estimate_ground(const GroundFrames& frames, const LidarCalibrationOptions& options) {
-  return {estimate_from_frames(frames.time, frames.roll, options),
-          estimate_from_frames(frames.time, frames.pitch, options),
-          estimate_from_frames(frames.time, frames.height, options)};
+  const GroundBias& bias = options.ground_bias;
+  const BodyLean lean = body_lean_of(frames, bias);
+  // The height's spread keeps the lean's swings: its lever arm is a guess (height_per_pitch_m).
+  return {estimate_from_frames(frames.time, frames.roll, lean.roll,
+                               lean_floor(frames.roll, lean.roll, bias.roll), options),
+          estimate_from_frames(frames.time, frames.pitch, lean.pitch,
+                               lean_floor(frames.pitch, lean.pitch, bias.pitch), options),
+          estimate_from_frames(frames.time, frames.height, {},
+                               lean_floor(frames.height, lean.height, bias.height_m), options)};
 }
 
 void write_ground_counts(const GroundFrames& frames, CalibrationResult& result) {
@@ -424,11 +480,22 @@ std::int64_t write_odometry_counts(const SweepPass& pass, CalibrationResult& res
 
 }  // namespace
 
+void GroundBias::Check() const {
+  const OptionsCheck check("GroundBias");
+  check.non_negative("roll", roll);
+  check.non_negative("pitch", pitch);
+  check.non_negative("height_m", height_m);
+  check.non_negative("pitch_per_acceleration", pitch_per_acceleration);
+  check.non_negative("roll_per_lateral_acceleration", roll_per_lateral_acceleration);
+  check.non_negative("height_per_pitch_m", height_per_pitch_m);
+}
+
 void LidarCalibrationOptions::Check() const {
   odometry.Check();
   ground.Check();
   alignment.Check();
   ground_outliers.Check();
+  ground_bias.Check();
   disagreement.Check();
   const OptionsCheck check("LidarCalibrationOptions");
   check.at_least("ground_every", ground_every, 1);

@@ -29,6 +29,28 @@
 
 namespace x2car::lidar {
 
+// Errors of the ground's roll, pitch and height that stay with a drive and that no spread of the
+// frames shows, added in quadrature to their standard errors (docs/methods.md, "Ground plane").
+struct GroundBias {
+  // The fitted patch 3-15 m around the LiDAR is not exactly the plane the wheels stand on: rutting,
+  // patches, the road's unevenness of a few millimetres over metres that road standards tolerate.
+  double roll = rad_from_deg(0.01);   // [rad], 1 sigma
+  double pitch = rad_from_deg(0.01);  // [rad], 1 sigma
+  double height_m = 0.002;            // [m], 1 sigma
+  // The body leans on its suspension: the median cancels it only when the drive's accelerations
+  // balance. Each frame's expected lean (its acceleration from the odometry times the lean per
+  // acceleration) is taken out of the spread, and the shift of the median it explains is added.
+  // Defaults in the middle of passenger cars' range (pitch 1.5-3.5 deg/g under braking and
+  // acceleration, roll 3-7 deg/g): 0.3 deg and 0.5 deg per m/s^2. A height error follows the
+  // pitch by the LiDAR's distance from the point the body pitches about (a roof LiDAR: ~1.5 m).
+  double pitch_per_acceleration = rad_from_deg(0.3);         // [rad / (m/s^2)]
+  double roll_per_lateral_acceleration = rad_from_deg(0.5);  // [rad / (m/s^2)]
+  double height_per_pitch_m = 1.5;                           // [m / rad]
+
+  // Throws std::invalid_argument naming the offending field.
+  void Check() const;
+};
+
 struct LidarCalibrationOptions {
   OdometryOptions odometry;
   GroundOptions ground;
@@ -40,9 +62,13 @@ struct LidarCalibrationOptions {
   double max_ground_turn_rate = 0.05;
   // Per-frame outliers (a passing truck taken for the road, a ramp) are rejected by median/MAD.
   OutlierRejectionOptions ground_outliers{.k = 3.0, .min_sigma = rad_from_deg(0.01)};
-  // Standard errors come from the spread of means over blocks this long [s]: neighbouring frames
-  // see the same stretch of road and are not independent.
+  // Standard errors come from the spread of means over moving blocks this long [s]
+  // (core/standard_error.hpp): neighbouring frames see the same stretch of road and are not
+  // independent (the road's unevenness over tens of metres; the body's lean, whose expected part
+  // is taken out of the spread, see GroundBias).
   double block_s = 5.0;
+  // Floor of the roll's, pitch's and height's standard errors.
+  GroundBias ground_bias;
   // Spline, gates and averaging of the yaw; see core/track_alignment.hpp.
   TrackAlignmentOptions alignment;
   // Which yaw the result reports (both are always computed and kept in the diagnostics).
