@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "x2car/core/robust_stats.hpp"
+
 namespace x2car::bench {
 
 // One calibration run against the truth, in the unit of the figure (deg for angles, m for z).
@@ -42,14 +44,6 @@ struct CoverageSummary {
   std::string verdict;  // what failed, or "ok"
 };
 
-inline double median_of(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  if (values.size() % 2 == 1) return *middle;
-  return 0.5 * (*middle + *std::max_element(values.begin(), middle));
-}
-
 inline CoverageSummary summarise_coverage(std::span<const CoverageRun> runs,
                                           const CoverageCriteria& criteria = {}) {
   CoverageSummary summary;
@@ -65,8 +59,8 @@ inline CoverageSummary summarise_coverage(std::span<const CoverageRun> runs,
     return summary;
   }
   summary.fraction = static_cast<double>(summary.covered) / summary.runs;
-  summary.median_abs_error = median_of(errors);
-  summary.median_standard_error = median_of(standard_errors);
+  summary.median_abs_error = median(errors);
+  summary.median_standard_error = median(standard_errors);
   summary.se_over_error = summary.median_abs_error > 0.0
                               ? summary.median_standard_error / summary.median_abs_error
                               : INFINITY;

@@ -49,6 +49,7 @@ double mean_of(const std::vector<double>& values) {
 TEST(SmallSampleFactor, IsTheStudentTQuantileOverTheNormalOne) {
   EXPECT_NEAR(small_sample_factor(1.0), 12.7062 / 1.95996, 1e-3);
   EXPECT_NEAR(small_sample_factor(2.0), 4.3027 / 1.95996, 1e-3);
+  EXPECT_NEAR(small_sample_factor(5.0), 2.5706 / 1.95996, 1e-3);
   EXPECT_NEAR(small_sample_factor(10.0), 2.2281 / 1.95996, 1e-3);
   EXPECT_NEAR(small_sample_factor(60.0), 2.0003 / 1.95996, 1e-3);
   EXPECT_NEAR(small_sample_factor(1e6), 1.0, 1e-4);

@@ -122,19 +122,4 @@ VelocityCovariance velocity_covariance(std::span<const RadarSample> samples,
   return covariance;
 }
 
-double student_t_factor(int dof) {
-  // t(0.975, dof) for dof 1..30 (standard tables); beyond, the Cornish-Fisher expansion.
-  static constexpr std::array<double, 30> kTable{
-      12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
-      2.201,  2.179, 2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086,
-      2.080,  2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042};
-  constexpr double z = 1.959964;
-  if (dof < 1) return kTable[0] / z;
-  if (dof <= 30) return kTable[static_cast<std::size_t>(dof - 1)] / z;
-  const double n = dof;
-  const double t = z + (z * z * z + z) / (4.0 * n) +
-                   (5.0 * std::pow(z, 5) + 16.0 * z * z * z + 3.0 * z) / (96.0 * n * n);
-  return t / z;
-}
-
 }  // namespace x2car::radar

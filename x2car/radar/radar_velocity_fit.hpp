@@ -70,8 +70,4 @@ VelocityCovariance velocity_covariance(std::span<const RadarSample> samples,
                                        const VelocityModel& model, double huber_width_mps,
                                        bool estimate_speed_scale, double block_s);
 
-// t(0.975, dof) / 1.96: widens a normal-theory standard error estimated from dof + 1 blocks so
-// that +-2 of it is the Student-t 95 % interval (1 for dof -> infinity).
-double student_t_factor(int dof);
-
 }  // namespace x2car::radar

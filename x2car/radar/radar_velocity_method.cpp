@@ -7,6 +7,7 @@
 #include <map>
 
 #include "x2car/core/robust_stats.hpp"
+#include "x2car/core/standard_error.hpp"
 
 namespace x2car::radar {
 namespace {
@@ -259,7 +260,7 @@ RadarVelocityEstimate estimate_yaw_by_velocity(std::span<const RadarSample> samp
     return estimate;
   }
   // The standard error: block-clustered, Student-t widened, with the floors.
-  const double t_factor = student_t_factor(covariance.blocks - 1);
+  const double t_factor = small_sample_factor(covariance.blocks - 1);
   estimate.formal_yaw_std = std::sqrt(covariance.formal(0, 0));
   const double block_yaw_std = std::sqrt(covariance.sandwich(0, 0)) * t_factor;
   // With the scale held at 1, its nominal error moves psi by (dpsi/ds) sigma_s.

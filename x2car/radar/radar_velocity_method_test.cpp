@@ -163,13 +163,6 @@ TEST(RadarVelocityMethod, RefinementStaysInItsBasin) {
   EXPECT_NEAR(deg_from_rad(fit.model.yaw), 20.0, 1e-6);
 }
 
-TEST(RadarVelocityMethod, StudentTFactor) {
-  EXPECT_NEAR(student_t_factor(1), 12.706 / 1.959964, 1e-3);
-  EXPECT_NEAR(student_t_factor(5), 2.571 / 1.959964, 1e-3);
-  EXPECT_NEAR(student_t_factor(60), 2.000 / 1.959964, 2e-3);
-  EXPECT_NEAR(student_t_factor(100000), 1.0, 1e-4);
-}
-
 // Too few time blocks for a standard error is insufficient data, not a guess: 2.6 s of radar lie in
 // one 3 s block.
 TEST(RadarVelocityMethod, TooShortForAStandardErrorIsInsufficientData) {
