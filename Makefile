@@ -6,7 +6,7 @@ MAKEFLAGS += --no-print-directory
 BUILD_DIR := build/$(PRESET)
 X2CAR := $(BUILD_DIR)/apps/x2car/x2car
 
-.PHONY: all setup configure build test demo bench coverage format format-check clean
+.PHONY: all setup configure build test demo bench camera-accuracy coverage format format-check clean
 
 all: build
 
@@ -30,6 +30,12 @@ bench: setup
 	@cmake --preset $(PRESET) -DX2CAR_BUILD_BENCH=ON >/dev/null
 	@cmake --build --preset $(PRESET)
 	@scripts/bench $(BUILD_DIR)
+
+# Issue 14's camera accuracy table (scripts/camera-accuracy): simulated drives x presets; long.
+camera-accuracy: setup
+	@cmake --preset $(PRESET) -DX2CAR_BUILD_BENCH=ON >/dev/null
+	@cmake --build --preset $(PRESET) --target x2car x2car_camera_accuracy
+	@scripts/camera-accuracy $(BUILD_DIR)
 
 # The standard errors' coverage checks (bench/coverage.hpp): many simulated runs per sensor.
 coverage: setup

@@ -90,14 +90,17 @@ Outcome run_case(const Case& c) {
     return bench::CoverageRun{label, deg_from_rad(angle_difference(estimate, truth_rad)),
                               deg_from_rad(standard_error)};
   };
-  if (result.roll && result.pitch && result.z) {
+  // A result that failed its own checks is a refusal, not a number to cover.
+  if (result.status == CalibrationStatus::kUnreliable) {
+    outcome.note = "unreliable: " + result.reason;
+  } else if (result.roll && result.pitch && result.z) {
     outcome.figures["roll"] = angle_run(*result.roll, *result.roll_std, truth.rotation.roll);
     outcome.figures["pitch"] = angle_run(*result.pitch, *result.pitch_std, truth.rotation.pitch);
     outcome.figures["z"] = {label, *result.z - truth.translation.z(), *result.z_std};
   }
   if (result.ok() && result.yaw) {
     outcome.figures["yaw"] = angle_run(*result.yaw, *result.yaw_std, truth.rotation.yaw);
-  } else {
+  } else if (!outcome.note) {
     outcome.note = result.reason;
   }
   outcome.seconds =

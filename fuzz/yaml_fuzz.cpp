@@ -1,12 +1,14 @@
 // libFuzzer target for the YAML readers: ground truth and mountings (io/ground_truth.hpp, with the
-// trajectory CSV beside it) and camera intrinsics (io/camera_intrinsics.hpp). Every input goes to
+// trajectory CSV beside it) and camera intrinsics (io/camera_info_yaml.hpp: ROS camera_info and
+// OpenCV FileStorage; io/kitti_calib_cam.hpp). Every input goes to
 // each. (The simulator's config is parsed in apps/, on top of the simulator: not fuzzed here.)
 #include <cstddef>
 #include <cstdint>
 
 #include "fuzz/fuzz_support.hpp"
-#include "x2car/io/camera_intrinsics.hpp"
+#include "x2car/io/camera_info_yaml.hpp"
 #include "x2car/io/ground_truth.hpp"
+#include "x2car/io/kitti_calib_cam.hpp"
 
 namespace {
 
@@ -32,13 +34,12 @@ void check_trajectory(std::span<const io::TrajectoryRow> rows) {
   }
 }
 
-// read_camera_intrinsics promises intrinsics that pass Check().
-void check_intrinsics(const io::CameraIntrinsics& intrinsics) {
+// The intrinsics readers promise intrinsics that pass Check().
+void check_intrinsics(const core::CameraIntrinsics& intrinsics, const char* reader) {
   try {
     intrinsics.Check();
   } catch (const std::invalid_argument& error) {
-    fuzz::finding(std::string("parse_camera_intrinsics returned intrinsics failing Check(): ") +
-                  error.what());
+    fuzz::finding(std::string(reader) + " returned intrinsics failing Check(): " + error.what());
   }
 }
 
@@ -54,9 +55,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   fuzz::accept_input_errors("parse_mountings", [&] {
     check_mountings(io::parse_mountings(text, "fuzz.yaml"), "parse_mountings");
   });
-  fuzz::accept_input_errors("parse_camera_intrinsics", [&] {
-    check_intrinsics(io::parse_camera_intrinsics(text, "fuzz.yaml"));
+  fuzz::accept_input_errors("parse_camera_info_yaml", [&] {
+    check_intrinsics(io::parse_camera_info_yaml(text, "fuzz.yaml"), "parse_camera_info_yaml");
   });
+  for (const io::KittiImages images :
+       {io::KittiImages::kRectified, io::KittiImages::kUnrectified}) {
+    fuzz::accept_input_errors("parse_kitti_calib_cam", [&] {
+      check_intrinsics(io::parse_kitti_calib_cam(text, "fuzz.txt", 2, images),
+                       "parse_kitti_calib_cam");
+    });
+  }
   fuzz::accept_input_errors("parse_trajectory_csv",
                             [&] { check_trajectory(io::parse_trajectory_csv(text, "fuzz.csv")); });
   return 0;

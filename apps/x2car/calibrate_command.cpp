@@ -23,6 +23,10 @@ constexpr std::array kCalibrators = {
                "position method (static tracks), auto choosing, from Conti, Delphi or generic "
                "radar files and a GNSS/INS log",
                &setup_calibrate_radar_command},
+    Subcommand{"camera",
+               "camera -> car: roll, pitch and yaw from the road's vanishing point and the "
+               "horizon in steady stretches, from a folder of images and the intrinsics",
+               &setup_calibrate_camera_command},
 };
 
 }  // namespace

@@ -9,11 +9,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "x2car/camera/camera_test_support.hpp"
+#include "x2car/io/camera_info_yaml.hpp"
 #include "x2car/io/text_lines.hpp"
 
 namespace x2car::cli {
@@ -208,20 +211,29 @@ TEST(Simulate, WritesLidarSweepsInTheChosenFormat) {
   EXPECT_FALSE(std::filesystem::exists(folder / "lidar/000000.000000.pcd"));
 }
 
-TEST(Simulate, CameraWritesItsIntrinsicsBesideTheIns) {
+TEST(Simulate, CameraWritesIntrinsicsImagesAndLabelsBesideTheIns) {
   const auto folder = std::filesystem::path(::testing::TempDir()) / "cli_simulate_camera";
   std::filesystem::remove_all(folder);
-  const CliRun run =
-      run_x2car("simulate --duration 2 --sensors ins,camera --out " + folder.string());
+  const CliRun run = run_x2car(
+      "simulate --duration 1 --sensors ins,camera --camera-format jpg --out " + folder.string());
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  EXPECT_THAT(run.output, HasSubstr("camera: 1920x1080, fx 1200 fy 1200"));
+  EXPECT_THAT(run.output, HasSubstr("camera: 1242x375, fx 721.538 fy 721.538"));
   EXPECT_THAT(run.output, HasSubstr("    camera "));  // its true mounting
   EXPECT_TRUE(std::filesystem::exists(folder / "ins/novatel_enu.csv"));
   const std::string text = io::read_text_file(folder / "camera/intrinsics.yaml");
-  EXPECT_THAT(text, HasSubstr("fx: 1200\n"));
+  EXPECT_THAT(text, HasSubstr("image_width: 1242\n"));
+  EXPECT_THAT(io::read_text_file(folder / "camera/calib_cam_to_cam.txt"),
+              HasSubstr("\nP_rect_02: 721.5377 0 609.5593 0 0 721.5377 172.854 0 0 0 1 0\n"));
   const std::string truth_text = io::read_text_file(folder / "ground_truth.yaml");
   EXPECT_THAT(truth_text, HasSubstr("vehicle_from_camera:\n"));
   EXPECT_THAT(truth_text, HasSubstr("vehicle_from_ins:\n"));
+  // Its images, one per frame at 10 Hz, their times and labels.
+  EXPECT_THAT(run.output, HasSubstr("10 frames at 10 Hz (jpg)"));
+  EXPECT_TRUE(std::filesystem::exists(folder / "camera/images/0000000009.jpg"));
+  EXPECT_FALSE(std::filesystem::exists(folder / "camera/images/0000000010.jpg"));
+  EXPECT_THAT(io::read_text_file(folder / "camera/timestamps.txt"),
+              HasSubstr("\n2026-06-01 10:00:00.900000000\n"));
+  EXPECT_TRUE(std::filesystem::exists(folder / "camera/labels.csv"));
 }
 
 TEST(Simulate, ConfigFileSetsParametersAndOptionsWinOverIt) {
@@ -380,7 +392,12 @@ namespace {
 // 1 deg down.
 std::filesystem::path simulated_drive() {
   static const std::filesystem::path folder = [] {
-    const auto out = std::filesystem::path(::testing::TempDir()) / "cli_calibrate_drive";
+    // One folder per test: ctest runs each test in its own process, several at once, and each
+    // process simulates its drive afresh (a shared folder was wiped under a running test).
+    const auto out = std::filesystem::path(::testing::TempDir()) /
+                     (std::string("cli_calibrate_drive_") +
+                      ::testing::UnitTest::GetInstance()->current_test_info()->test_suite_name() +
+                      "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
     std::filesystem::remove_all(out);
     const auto mounting =
         write_temp_file("ins_mounting.yaml",
@@ -619,6 +636,98 @@ TEST(CalibrateLidar, BadFoldersExitWithTwoAndTooFewSweepsWithOne) {
   EXPECT_EQ(bad.exit_code, 2) << bad.output;
   EXPECT_THAT(bad.output, HasSubstr(truncated.string()));
   EXPECT_THAT(bad.output, HasSubstr("truncated"));
+}
+
+// A drive folder as the simulator lays it out (camera/images/, timestamps.txt, intrinsics.yaml),
+// with synthetic street images seen from a known mounting (camera/camera_test_support.hpp).
+std::filesystem::path write_camera_drive(const std::string& name, int frames) {
+  const auto folder = std::filesystem::path(::testing::TempDir()) / name;
+  std::filesystem::remove_all(folder);
+  std::filesystem::create_directories(folder / "camera" / "images");
+  const core::CameraIntrinsics intrinsics = core::camera_preset("kitti");
+  io::write_camera_info_yaml(folder / "camera" / "intrinsics.yaml", intrinsics);
+  std::string timestamps;
+  for (int i = 0; i < frames; ++i) {
+    camera::testing::StreetScene scene;
+    scene.vehicle_from_camera = {0.02, 0.05, -0.03};  // [rad]
+    scene.noise_seed = static_cast<std::uint64_t>(i + 1);
+    char file[32];
+    std::snprintf(file, sizeof file, "%010d.png", i);
+    cv::imwrite((folder / "camera" / "images" / file).string(),
+                camera::testing::draw_street(scene, intrinsics));
+    timestamps += std::to_string(10.0 + 0.1 * i) + "\n";
+  }
+  io::write_text_file(folder / "camera" / "timestamps.txt", timestamps);
+  return folder;
+}
+
+TEST(CalibrateCamera, RecoversTheMountingFromAFolderOfImages) {
+  const auto folder = write_camera_drive("cli_calibrate_camera_drive", 24);
+  const auto json = folder / "camera_result.json";
+  const CliRun calibrate =
+      run_x2car("calibrate camera --input " + folder.string() +
+                " --window-frames 12 --without-series --out " + json.string() + " --yaml " +
+                (folder / "camera.yaml").string() + " --urdf " + (folder / "camera.urdf").string());
+  ASSERT_EQ(calibrate.exit_code, 0) << calibrate.output;
+  EXPECT_THAT(calibrate.output, HasSubstr("found 24 images"));
+  const std::string result = io::read_text_file(json);
+  constexpr double kDegPerRad = 180.0 / M_PI;
+  EXPECT_NEAR(number_after(result, "", "\"roll_deg\""), 0.02 * kDegPerRad, 0.1) << result;
+  EXPECT_NEAR(number_after(result, "", "\"pitch_deg\""), 0.05 * kDegPerRad, 0.1) << result;
+  EXPECT_NEAR(number_after(result, "", "\"yaw_deg\""), -0.03 * kDegPerRad, 0.1) << result;
+  // camera_link and the optical frame, both in the YAML; the URDF chains them.
+  const std::string yaml = io::read_text_file(folder / "camera.yaml");
+  EXPECT_THAT(yaml, HasSubstr("  camera:"));
+  EXPECT_THAT(yaml, HasSubstr("  camera_optical_frame:"));
+  EXPECT_THAT(
+      io::read_text_file(folder / "camera.urdf"),
+      HasSubstr("<parent link=\"camera\"/>\n  <child link=\"camera_optical_frame\"/>\n  "
+                "<origin xyz=\"0 0 0\" rpy=\"-1.5707963267948966 0 -1.5707963267948966\"/>"));
+
+  // The paper's 100-frame window needs more than 24 frames: exit 1 with the reason.
+  const CliRun few = run_x2car("calibrate camera --input " + folder.string());
+  EXPECT_EQ(few.exit_code, 1) << few.output;
+  EXPECT_THAT(few.output, HasSubstr("only 24 frames in stable stretches; need 100"));
+}
+
+// --ins gates frames by the car's motion: a log that turns throughout leaves no frame to use.
+TEST(CalibrateCamera, InsLogGatesTurningFrames) {
+  const auto folder = write_camera_drive("cli_calibrate_camera_ins", 24);
+  std::string ins = "time,x,y,z,vx,vy,vz,roll,pitch,yaw\n";
+  for (int i = 0; i <= 400; ++i) {
+    const double time = 9.0 + 0.01 * i;
+    ins += std::to_string(time) + "," + std::to_string(10.0 * i * 0.01) + ",0,0,10,0,0,0,0," +
+           std::to_string(0.3 * (time - 9.0)) + "\n";
+  }
+  const auto log = write_temp_file("cli_calibrate_camera_ins.csv", ins);
+  const CliRun gated =
+      run_x2car("calibrate camera --input " + folder.string() + " --window-frames 12 --ins " +
+                log.string() + " --out " + (folder / "result.json").string());
+  EXPECT_EQ(gated.exit_code, 1) << gated.output;
+  EXPECT_THAT(gated.output, HasSubstr("24 of 24 frames covered"));
+  EXPECT_THAT(io::read_text_file(folder / "result.json"), HasSubstr("\"turning\": 24"));
+}
+
+TEST(CalibrateCamera, BadInputExitsWithTwoNamingTheFile) {
+  const auto folder = write_camera_drive("cli_calibrate_camera_bad", 2);
+  // Intrinsics of another image size.
+  core::CameraIntrinsics other = core::camera_preset("automotive_1080p");
+  io::write_camera_info_yaml(folder / "other.yaml", other);
+  const CliRun size = run_x2car("calibrate camera --input " + folder.string() + " --intrinsics " +
+                                (folder / "other.yaml").string());
+  EXPECT_EQ(size.exit_code, 2) << size.output;
+  EXPECT_THAT(size.output, HasSubstr("0000000000.png"));
+  EXPECT_THAT(size.output, HasSubstr("image size"));
+  // A broken image.
+  io::write_text_file(folder / "camera" / "images" / "0000000001.png", "not a png");
+  const CliRun broken = run_x2car("calibrate camera --input " + folder.string());
+  EXPECT_EQ(broken.exit_code, 2) << broken.output;
+  EXPECT_THAT(broken.output, HasSubstr("0000000001.png"));
+  // No intrinsics.
+  std::filesystem::remove(folder / "camera" / "intrinsics.yaml");
+  const CliRun missing = run_x2car("calibrate camera --input " + folder.string());
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_THAT(missing.output, HasSubstr("give --intrinsics"));
 }
 
 }  // namespace

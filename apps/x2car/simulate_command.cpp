@@ -39,6 +39,7 @@ struct SimulateArguments {
   std::optional<std::string> lidar_format;
   std::optional<int> lidar_beams;
   std::string radar_format = "conti";
+  std::optional<std::string> camera_format;
   std::string trajectory_path;
   std::string trajectory_format = "auto";
   double trajectory_rate_hz = 10.0;
@@ -93,6 +94,9 @@ sim::SimulationOptions simulation_options(const SimulateArguments& arguments) {
   // command line wins over the file.
   if (!arguments.config_path.empty()) apply_simulation_config(arguments.config_path, options);
   if (arguments.lidar_beams) options.lidar.beams = *arguments.lidar_beams;
+  if (arguments.camera_format) {
+    options.camera_render.format = sim::camera_image_format_from_string(*arguments.camera_format);
+  }
   if (!arguments.mounting_path.empty()) {
     options.mountings = io::read_mountings(arguments.mounting_path);
   }
@@ -118,12 +122,15 @@ void print_summary(const sim::Simulation& simulation, const std::string& out_dir
                              simulation.world.objects.size(), simulation.world.movers.size());
   }
   if (simulation.camera) {
-    const io::CameraIntrinsics& camera = *simulation.camera;
+    const core::CameraIntrinsics& camera = *simulation.camera;
+    const sim::CameraRenderOptions& render = simulation.camera_output->options;
     std::cout << fmt::format(
-        "  camera: {}x{}, fx {:g} fy {:g} cx {:g} cy {:g}, distortion {} (intrinsics only; no "
-        "images yet)\n",
+        "  camera: {}x{}, fx {:g} fy {:g} cx {:g} cy {:g}, distortion {}; {} frames at {:g} Hz "
+        "({})\n",
         camera.width, camera.height, camera.fx, camera.fy, camera.cx, camera.cy,
-        io::to_string(camera.distortion_model));
+        core::to_string(camera.distortion_model),
+        static_cast<std::size_t>(std::floor(truth.duration_s * render.rate_hz + 1e-9)),
+        render.rate_hz, sim::to_string(render.format));
   }
   for (const auto& [sensor, scans] : simulation.radars) {
     std::size_t detections = 0;
@@ -168,8 +175,15 @@ int run_simulate(const SimulateArguments& arguments) {
   const auto start = std::chrono::steady_clock::now();
   const sim::Simulation simulation = sim::simulate(options);
   ProgressBar progress("lidar sweeps", spdlog::should_log(spdlog::level::info));
-  sim::write_simulation(simulation, arguments.out_dir, progress.callback());
+  ProgressBar frames("camera frames", spdlog::should_log(spdlog::level::info));
+  // The LiDAR is written first: its bar ends before the camera's starts.
+  sim::write_simulation(simulation, arguments.out_dir, progress.callback(),
+                        [&](std::size_t done, std::size_t total) {
+                          progress.finish();
+                          frames.update(done, total);
+                        });
   progress.finish();
+  frames.finish();
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   print_summary(simulation, arguments.out_dir, seconds);
@@ -243,6 +257,12 @@ RunCommand setup_simulate_command(CLI::App& command) {
       ->check(CLI::IsMember(io::radar_layout_names()))
       ->capture_default_str();
   command
+      .add_option("--camera-format", arguments->camera_format,
+                  "Camera images as png (lossless) or jpg (camera.jpeg_quality in --config)")
+      ->type_name("NAME")
+      ->check(CLI::IsMember(sim::camera_image_format_names()))
+      ->default_str(sim::to_string(defaults.camera_render.format));
+  command
       .add_option("--trajectory", arguments->trajectory_path,
                   "Drive this recorded path (KITTI or TUM poses) instead of a generated route; "
                   "the drive lasts the recording unless --duration cuts it")
@@ -276,13 +296,17 @@ RunCommand setup_simulate_command(CLI::App& command) {
       "(the car's true motion at 100 Hz) and each sensor's data (DIR/ins/novatel_enu.csv and\n"
       "DIR/ins/ins.csv; DIR/lidar/<start seconds>.pcd, one per sweep; DIR/radar/, one file per\n"
       "scan, and DIR/radar_truth.csv, or DIR/radar_left/ and DIR/radar_left_truth.csv ... for\n"
-      "named radars; DIR/camera/intrinsics.yaml, no images yet); see\n"
+      "named radars; DIR/camera/intrinsics.yaml (ROS camera_info), "
+      "DIR/camera/calib_cam_to_cam.txt\n"
+      "(KITTI, camera 02), DIR/camera/images/NNNNNNNNNN.png (one per frame),\n"
+      "DIR/camera/timestamps.txt and DIR/camera/labels.csv); see\n"
       "docs/simulator.md and docs/formats.md. Same arguments, same bytes.\n"
       "\n"
       "Example:\n"
       "  x2car simulate --scenario urban --duration 120 --seed 3 --out /tmp/drive\n"
       "  x2car simulate --duration 60 --sensors ins,lidar --lidar-beams 32 --out /tmp/lidar\n"
       "  x2car simulate --duration 60 --sensors ins,radar --radar-format delphi --out /tmp/radar\n"
+      "  x2car simulate --duration 60 --sensors ins,camera --camera-format jpg --out /tmp/camera\n"
       "  x2car simulate --duration 60 --sensors ins,radar_front,radar_left,radar_rear --out "
       "/tmp/car\n"
       "  x2car simulate --print-config > sim.yaml   # edit, then: --config sim.yaml");

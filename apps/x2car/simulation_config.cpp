@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <variant>
 
+#include "x2car/core/camera_model.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/core/rotation.hpp"
 #include "x2car/io/text_lines.hpp"
@@ -29,12 +30,16 @@ struct Flag {
   bool* value;
 };
 struct Model {
-  io::DistortionModel* value;
+  core::DistortionModel* value;
 };
 struct Numbers {
   std::vector<double>* value;
 };
-using Field = std::variant<Number, Integer, Flag, Model, Numbers>;
+// A named set of camera intrinsics (core::camera_preset); applied before its section's other keys.
+struct Preset {
+  core::CameraIntrinsics* value;
+};
+using Field = std::variant<Number, Integer, Flag, Model, Numbers, Preset>;
 
 struct Key {
   std::string path;  // dotted: "route.urban.turn_probability"
@@ -59,8 +64,11 @@ class KeyTable {
   void flag(const std::string& name, bool& value, std::string help) {
     add(name, Flag{&value}, std::move(help));
   }
-  void model(const std::string& name, io::DistortionModel& value, std::string help) {
+  void model(const std::string& name, core::DistortionModel& value, std::string help) {
     add(name, Model{&value}, std::move(help));
+  }
+  void preset(const std::string& name, core::CameraIntrinsics& value, std::string help) {
+    add(name, Preset{&value}, std::move(help));
   }
   void numbers(const std::string& name, std::vector<double>& value, std::string help) {
     add(name, Numbers{&value}, std::move(help));
@@ -159,17 +167,39 @@ void add_ins_and_sensors(KeyTable& t, sim::SimulationOptions& o) {
   t.number("mover_sample_period_s", o.world_radar.mover_sample_period_s,
            "of the movers' paths, >= 0.001 [s]");
 
-  io::CameraIntrinsics& c = o.camera.intrinsics;
+  core::CameraIntrinsics& c = o.camera.intrinsics;
   t.section("camera");
+  t.preset("preset", c,
+           fmt::format("{}; applied first, the keys below override it",
+                       io::join(core::camera_preset_names(), " | ")));
   t.integer("width", c.width, "image size [pixels]");
   t.integer("height", c.height, "[pixels]");
   t.number("fx", c.fx, "focal length [pixels]");
   t.number("fy", c.fy, "[pixels]");
   t.number("cx", c.cx, "principal point [pixels]");
   t.number("cy", c.cy, "[pixels]");
-  t.model("distortion_model", c.distortion_model, "none | plumb_bob");
+  t.model("distortion_model", c.distortion_model, "none | plumb_bob | equidistant");
   t.numbers("distortion_coefficients", c.distortion_coefficients,
-            "none: []; plumb_bob: [k1, k2, p1, p2, k3]");
+            "none: []; plumb_bob: [k1, k2, p1, p2, k3]; equidistant: [k1, k2, k3, k4]");
+  // How its images are rendered (sim/camera_render.hpp).
+  sim::CameraRenderOptions& render = o.camera_render;
+  t.number("rate_hz", render.rate_hz, "frames per second [Hz]");
+  t.integer("supersampling", render.supersampling, "n x n rays on edge pixels, 1..8 (1: none)");
+  t.number("edge_threshold", render.edge_threshold, "tone step to a neighbour that marks an edge");
+  t.number("exposure_s", render.exposure_s, "exposure time, the motion blur's span [s]");
+  t.integer("motion_blur_samples", render.motion_blur_samples,
+            "renders over the exposure, 1..16 (1: no motion blur)");
+  t.number("gain", render.gain, "exposure gain, light -> value");
+  t.number("vignetting", render.vignetting, "brightness lost in the corners, [0, 1)");
+  t.number("read_noise", render.read_noise, "Gaussian noise, 1 sigma, share of full scale");
+  t.number("shot_noise", render.shot_noise, "signal-dependent noise, 1 sigma at full scale");
+  t.flag("shadows", render.shadows, "hard shadows of the sun");
+  t.angle("sun_azimuth", render.sun_azimuth, "compass bearing of the sun [deg]");
+  t.angle("sun_elevation", render.sun_elevation, "above the horizon, (0, 90] [deg]");
+  t.number("ambient", render.ambient, "the sky's light relative to the sun's");
+  t.number("haze_distance_m", render.haze_distance_m, "haze veils 63 % of a surface this far [m]");
+  t.number("max_range_m", render.max_range_m, "rays end here, sky beyond [m]");
+  t.integer("jpeg_quality", render.jpeg_quality, "with --camera-format jpg, 1..100");
 }
 
 void add_motion(KeyTable& t, sim::VehicleMotionOptions& m) {
@@ -198,11 +228,9 @@ void add_motion(KeyTable& t, sim::VehicleMotionOptions& m) {
   add_style(t, "motion.highway_style", m.highway_style);
 }
 
-void add_route(KeyTable& t, sim::RouteOptions& r) {
-  t.section("route");
-  t.number("table_step_m", r.table_step_m, "position table spacing, [0.01, 10] [m]");
-  sim::UrbanPlanOptions& u = r.plan.urban;
-  t.section("route.urban");
+// The urban grid's keys, for route.urban and for route.city (the same options, other defaults).
+void add_urban_plan(KeyTable& t, const std::string& section, sim::UrbanPlanOptions& u) {
+  t.section(section);
   t.number("min_block_m", u.min_block_m, "between intersections [m]");
   t.number("max_block_m", u.max_block_m, "[m]");
   t.number("first_block_m", u.first_block_m, "the first block, ending in a stop and a turn [m]");
@@ -214,6 +242,13 @@ void add_route(KeyTable& t, sim::RouteOptions& r) {
   t.number("roundabout_probability", u.roundabout_probability, "per intersection");
   t.number("stop_line_gap_m", u.stop_line_gap_m, "stop line before the intersection [m]");
   t.number("crossing_m", u.crossing_m, "straight through an intersection [m]");
+}
+
+void add_route(KeyTable& t, sim::RouteOptions& r) {
+  t.section("route");
+  t.number("table_step_m", r.table_step_m, "position table spacing, [0.01, 10] [m]");
+  add_urban_plan(t, "route.urban", r.plan.urban);
+  add_urban_plan(t, "route.city", r.plan.city);
   sim::HighwayPlanOptions& h = r.plan.highway;
   t.section("route.highway");
   t.number("min_straight_m", h.min_straight_m, "[m]");
@@ -338,11 +373,18 @@ class ConfigReader {
   }
 
   void apply(const YAML::Node& map, const std::string& prefix) const {
+    // A preset first, wherever it stands, so that the section's other keys override it.
+    for (const auto& entry : map) {
+      const auto key = by_path_.find(path_of(prefix, entry.first.Scalar()));
+      if (key != by_path_.end() && std::holds_alternative<Preset>(key->second->field)) {
+        set(*key->second, entry.second);
+      }
+    }
     for (const auto& entry : map) {
       const std::string name = entry.first.Scalar();
-      const std::string path = prefix.empty() ? name : prefix + "." + name;
+      const std::string path = path_of(prefix, name);
       if (const auto key = by_path_.find(path); key != by_path_.end()) {
-        set(*key->second, entry.second);
+        if (!std::holds_alternative<Preset>(key->second->field)) set(*key->second, entry.second);
       } else if (sections_.contains(path)) {
         if (entry.second.IsNull()) continue;  // an empty section changes nothing
         if (!entry.second.IsMap()) {
@@ -362,6 +404,10 @@ class ConfigReader {
   }
 
  private:
+  static std::string path_of(const std::string& prefix, const std::string& name) {
+    return prefix.empty() ? name : prefix + "." + name;
+  }
+
   std::string scalar(const Key& key, const YAML::Node& node, const char* expected) const {
     if (!node.IsScalar() || node.IsNull()) {
       throw InputError(source_, io::yaml_line(node), key.path,
@@ -390,7 +436,13 @@ class ConfigReader {
       *flag->value = text == "true";
     } else if (const auto* model = std::get_if<Model>(&key.field)) {
       try {
-        *model->value = io::distortion_model_from_string(scalar(key, node, "a model name"));
+        *model->value = core::distortion_model_from_string(scalar(key, node, "a model name"));
+      } catch (const std::invalid_argument& error) {
+        throw InputError(where.file, where.line, where.field, error.what());
+      }
+    } else if (const auto* preset = std::get_if<Preset>(&key.field)) {
+      try {
+        *preset->value = core::camera_preset(scalar(key, node, "a preset name"));
       } catch (const std::invalid_argument& error) {
         throw InputError(where.file, where.line, where.field, error.what());
       }
@@ -428,6 +480,7 @@ void check_configurable(const sim::SimulationOptions& options, const std::string
     options.radar.Check();
     options.world_radar.Check();
     options.camera.Check();
+    options.camera_render.Check();
     options.recorded.Check();
   } catch (const std::invalid_argument& error) {
     throw InputError(source, error.what());
@@ -445,7 +498,15 @@ std::string format_value(const Field& field) {
   }
   if (const auto* integer = std::get_if<Integer>(&field)) return std::to_string(*integer->value);
   if (const auto* flag = std::get_if<Flag>(&field)) return *flag->value ? "true" : "false";
-  if (const auto* model = std::get_if<Model>(&field)) return io::to_string(*model->value);
+  if (const auto* model = std::get_if<Model>(&field)) return core::to_string(*model->value);
+  if (const auto* preset = std::get_if<Preset>(&field)) {
+    // The preset the intrinsics are, else the default one: the camera's keys, printed after it,
+    // hold the values either way.
+    for (const std::string& name : core::camera_preset_names()) {
+      if (core::camera_preset(name) == *preset->value) return name;
+    }
+    return core::camera_preset_names().front();
+  }
   const auto& numbers = *std::get<Numbers>(field).value;
   std::string text;
   for (const double value : numbers) text += (text.empty() ? "" : ", ") + io::format_number(value);

@@ -52,9 +52,38 @@ TEST(SimulationConfig, SetsTheKeysItNamesAndLeavesTheRest) {
   EXPECT_EQ(options.motion.urban_style.max_speed_mps, 10.0);
   EXPECT_EQ(options.world.traffic.oncoming_cars_per_km, 5.0);
   EXPECT_EQ(options.camera.intrinsics.fx, 1300.0);
-  EXPECT_EQ(options.camera.intrinsics.distortion_model, io::DistortionModel::kPlumbBob);
+  EXPECT_EQ(options.camera.intrinsics.distortion_model, core::DistortionModel::kPlumbBob);
   EXPECT_EQ(options.camera.intrinsics.distortion_coefficients.size(), 5u);
   EXPECT_EQ(configured("").lidar.beams, defaults.lidar.beams);  // an empty file changes nothing
+}
+
+TEST(SimulationConfig, CameraPresetIsAppliedFirstAndItsKeysOverrideIt) {
+  EXPECT_EQ(configured("").camera.intrinsics, core::camera_preset("kitti"));
+  const sim::SimulationOptions options =
+      configured("camera:\n  fx: 600\n  preset: dashcam_wide\n  cy: 350\n");
+  core::CameraIntrinsics expected = core::camera_preset("dashcam_wide");
+  expected.fx = 600.0;
+  expected.cy = 350.0;
+  EXPECT_EQ(options.camera.intrinsics, expected);
+  // Printed with the preset it is and read back the same; a custom camera too.
+  const std::string printed = format_simulation_config(options);
+  EXPECT_THAT(printed, HasSubstr("camera:\n  preset: kitti "));  // not a preset: the default
+  EXPECT_EQ(configured(printed).camera.intrinsics, expected);
+  sim::SimulationOptions wide;
+  wide.camera.intrinsics = core::camera_preset("automotive_1080p");
+  EXPECT_THAT(format_simulation_config(wide), HasSubstr("camera:\n  preset: automotive_1080p "));
+  EXPECT_EQ(configured(format_simulation_config(wide)).camera.intrinsics, wide.camera.intrinsics);
+  expect_error("camera:\n  preset: gopro\n", 2, "camera.preset");
+  // Distortion that folds over inside the image is rejected, naming the file.
+  try {
+    configured(
+        "camera:\n  distortion_model: plumb_bob\n"
+        "  distortion_coefficients: [-1.5, 0, 0, 0, 0]\n");
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.file(), kFile);
+    EXPECT_THAT(error.what(), HasSubstr("not one-to-one over the image"));
+  }
 }
 
 TEST(SimulationConfig, PrintedConfigReadsBackToTheSameOptions) {
@@ -126,6 +155,17 @@ TEST(SimulationConfig, ValuesThatCannotFinishNameTheFileAndField) {
   EXPECT_EQ(
       configured("world:\n  roadside:\n    pole_spacing_m: 0\n").world.roadside.pole_spacing_m,
       0.0);
+}
+
+// The city's grid has keys of its own, apart from the urban one's (the same options, other
+// defaults).
+TEST(SimulationConfig, TheCityGridIsConfiguredApartFromTheUrbanOne) {
+  const sim::SimulationOptions options =
+      configured("route:\n  city:\n    max_block_m: 90\n    turn_probability: 0.5\n");
+  EXPECT_EQ(options.route.plan.city.max_block_m, 90.0);
+  EXPECT_EQ(options.route.plan.city.turn_probability, 0.5);
+  EXPECT_EQ(options.route.plan.city.min_block_m, sim::city_plan_options().min_block_m);
+  EXPECT_EQ(options.route.plan.urban.max_block_m, sim::UrbanPlanOptions{}.max_block_m);
 }
 
 TEST(SimulationConfig, DocsListEveryKey) {

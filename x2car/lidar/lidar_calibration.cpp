@@ -17,6 +17,7 @@
 
 #include "x2car/core/error.hpp"
 #include "x2car/core/options_check.hpp"
+#include "x2car/core/prior_slope.hpp"
 #include "x2car/core/robust_stats.hpp"
 #include "x2car/core/standard_error.hpp"
 #include "x2car/core/track_alignment_report.hpp"
@@ -183,16 +184,18 @@ struct GroundFrames {
   // The car's accelerations at each frame from the odometry [m/s^2], for the standard errors.
   std::vector<double> longitudinal_acceleration;
   std::vector<double> lateral_acceleration;  // positive turning left
+  std::vector<double> speed;                 // [m/s], from the odometry
   std::int64_t fitted = 0;
   std::int64_t failed = 0;
   std::int64_t turning = 0;
   std::int64_t unregistered = 0;
 };
 
-// The LiDAR's longitudinal and lateral acceleration at sweep i from the odometry, by central
+// The LiDAR's longitudinal and lateral acceleration at sweep i from the odometry, and its speed
+// (the third component), by central
 // differences over +-half_width sweeps: speed change over time, and speed times the signed turn
 // rate about the LiDAR's z axis (near enough the car's for a mounting tilted a few degrees).
-Eigen::Vector2d odometry_acceleration(const std::vector<OdometryStep>& steps, std::size_t i) {
+Eigen::Vector3d odometry_acceleration(const std::vector<OdometryStep>& steps, std::size_t i) {
   constexpr std::size_t kHalfWidth = 3;
   const std::size_t n = steps.size();
   const auto speed_at = [&](std::size_t j) {
@@ -207,11 +210,11 @@ Eigen::Vector2d odometry_acceleration(const std::vector<OdometryStep>& steps, st
   const std::size_t before = i >= kHalfWidth ? i - kHalfWidth : 0;
   const std::size_t after = std::min(n - 1, i + kHalfWidth);
   const double dt = steps[after].time - steps[before].time;
-  if (n < 3 || dt <= 0.0) return Eigen::Vector2d::Zero();
+  if (n < 3 || dt <= 0.0) return Eigen::Vector3d::Zero();
   const Eigen::AngleAxisd turn(steps[before].world_from_lidar.linear().transpose() *
                                steps[after].world_from_lidar.linear());
   const double yaw_rate = turn.angle() * turn.axis().z() / dt;
-  return {(speed_at(after) - speed_at(before)) / dt, speed_at(i) * yaw_rate};
+  return {(speed_at(after) - speed_at(before)) / dt, speed_at(i) * yaw_rate, speed_at(i)};
 }
 
 GroundFrames gate_ground_frames(const SweepPass& pass, const std::vector<double>& turn_rate,
@@ -243,9 +246,10 @@ GroundFrames gate_ground_frames(const SweepPass& pass, const std::vector<double>
     frames.pitch.push_back(pitch_from_ground(plane.normal_in_lidar));
     frames.height.push_back(plane.height_m);
     frames.normal.push_back(plane.normal_in_lidar);
-    const Eigen::Vector2d acceleration = odometry_acceleration(pass.steps, i);
+    const Eigen::Vector3d acceleration = odometry_acceleration(pass.steps, i);
     frames.longitudinal_acceleration.push_back(acceleration.x());
     frames.lateral_acceleration.push_back(acceleration.y());
+    frames.speed.push_back(acceleration.z());
   }
   return frames;
 }
@@ -256,6 +260,9 @@ struct FrameEstimate {
   double standard_error = 0.0;
   std::int64_t used = 0;
   std::int64_t outliers = 0;
+  // The pitch's fit of the body's lean (pitch_from_frames); empty for the other quantities.
+  std::optional<OffsetWithSlope> lean_fit;
+  double mean_longitudinal_acceleration = 0.0;  // [m/s^2], of the frames used for that fit
 };
 
 // Standard error of the mean of the used frames' residuals (core/standard_error.hpp): the moving
@@ -275,9 +282,9 @@ double frame_standard_error(std::span<const double> times, std::span<const doubl
   return series_standard_error(used_times, used_residuals, {.block_s = block_s}).combined;
 }
 
-// The median of the per-frame values: the body's lean on its suspension lags the accelerations
-// that cause it, so regressing on them does no better than letting the median average braking
-// against speeding up and left turns against right ones. Frames more than k robust sigmas from it
+// The median of the per-frame values (roll and height): it averages the body's lean when braking
+// against speeding up and in left turns against right ones (the pitch fits its lean out instead,
+// pitch_from_frames). Frames more than k robust sigmas from it
 // are counted as outliers and left out of the standard error. The standard error is taken from the
 // residuals less each frame's expected lean (`lean`, empty: none) about the median's: the median
 // cancels the lean's swings, so they are no error of it; what it leaves is in `floor` (the
@@ -360,16 +367,92 @@ double lean_floor(std::span<const double> values, std::span<const double> lean, 
   return std::hypot(floor, median(values) - median(levelled));
 }
 
+// The pitch at rest: each frame's pitch is the mounting's plus the body's lean, which follows the
+// longitudinal acceleration (speeding up lifts the nose), v_i = pitch + gain * (-a_i). The gain is
+// fitted with the passenger-car range as its prior (core/prior_slope.hpp): where the drive brakes
+// and speeds up, the frames pin it down and the lean leaves the estimate; where it does not (a
+// drive that speeds up all along), the prior's spread goes into the standard error. The median
+// gate of estimate_from_frames picks the outliers.
+FrameEstimate pitch_from_frames(const GroundFrames& frames,
+                                const LidarCalibrationOptions& options) {
+  const GroundBias& bias = options.ground_bias;
+  std::vector<double> lean_regressor(frames.time.size());
+  std::vector<double> residuals(frames.time.size());
+  for (std::size_t i = 0; i < frames.time.size(); ++i) {
+    lean_regressor[i] = -frames.longitudinal_acceleration[i];
+    residuals[i] = frames.pitch[i] - bias.pitch_per_acceleration * lean_regressor[i];
+  }
+  const double centre = median(residuals);
+  for (double& residual : residuals) residual -= centre;
+  const std::vector<bool> used = mad_inlier_mask(residuals, options.ground_outliers);
+  FrameEstimate estimate;
+  estimate.used = std::ranges::count(used, true);
+  estimate.outliers = static_cast<std::int64_t>(frames.time.size()) - estimate.used;
+  if (estimate.used < 2) {  // too few frames to fit (the caller reports insufficient data)
+    const BodyLean lean = body_lean_of(frames, bias);
+    return estimate_from_frames(frames.time, frames.pitch, lean.pitch,
+                                lean_floor(frames.pitch, lean.pitch, bias.pitch), options);
+  }
+  const OffsetWithSlope fit = offset_with_prior_slope(
+      frames.time, frames.pitch, lean_regressor, used,
+      {.mean = bias.pitch_per_acceleration, .standard_deviation = bias.pitch_per_acceleration_std},
+      {.block_s = options.block_s}, bias.pitch);
+  estimate.value = fit.offset;
+  estimate.standard_error = fit.standard_error;
+  estimate.lean_fit = fit;
+  double sum_acceleration = 0.0;
+  for (std::size_t i = 0; i < used.size(); ++i) {
+    if (used[i]) sum_acceleration += frames.longitudinal_acceleration[i];
+  }
+  estimate.mean_longitudinal_acceleration = sum_acceleration / static_cast<double>(estimate.used);
+  return estimate;
+}
+
 GroundEstimate estimate_ground(const GroundFrames& frames, const LidarCalibrationOptions& options) {
   const GroundBias& bias = options.ground_bias;
   const BodyLean lean = body_lean_of(frames, bias);
   // The height's spread keeps the lean's swings: its lever arm is a guess (height_per_pitch_m).
   return {estimate_from_frames(frames.time, frames.roll, lean.roll,
                                lean_floor(frames.roll, lean.roll, bias.roll), options),
-          estimate_from_frames(frames.time, frames.pitch, lean.pitch,
-                               lean_floor(frames.pitch, lean.pitch, bias.pitch), options),
+          pitch_from_frames(frames, options),
           estimate_from_frames(frames.time, frames.height, {},
                                lean_floor(frames.height, lean.height, bias.height_m), options)};
+}
+
+// The road under a LiDAR that stands still does not change. When the odometry has the car standing
+// for most of the ground frames while their pitch or roll spreads (interquartile range) more than
+// the limit, the odometry has lost the motion (a featureless stretch), and with it the
+// accelerations that the pitch's lean is fitted against: the ground's numbers are one lean of
+// several, not the mounting.
+std::optional<std::string> check_ground_against_odometry(const GroundFrames& frames,
+                                                         const LidarCalibrationOptions& options) {
+  std::vector<double> pitch, roll;
+  for (std::size_t i = 0; i < frames.time.size(); ++i) {
+    if (frames.speed[i] >= options.standing_speed) continue;
+    pitch.push_back(frames.pitch[i]);
+    roll.push_back(frames.roll[i]);
+  }
+  if (static_cast<double>(pitch.size()) <= 0.5 * static_cast<double>(frames.time.size())) {
+    return std::nullopt;
+  }
+  const auto spread = [](std::vector<double> values) {
+    std::ranges::sort(values);
+    const auto at = [&](double q) {
+      return values[static_cast<std::size_t>(q * static_cast<double>(values.size() - 1))];
+    };
+    return at(0.75) - at(0.25);
+  };
+  const double pitch_spread = spread(pitch), roll_spread = spread(roll);
+  const double worst = std::max(pitch_spread, roll_spread);
+  if (worst <= options.max_standing_ground_spread) return std::nullopt;
+  return fmt::format(
+      "ground: the odometry has the LiDAR standing (below {:g} m/s) in {} of {} ground frames, "
+      "but the road under it changes ({} interquartile range {:.2f} deg, more than {:.2f}): the "
+      "odometry lost the motion, so the body's lean cannot be taken out of the ground's roll and "
+      "pitch",
+      options.standing_speed, pitch.size(), frames.time.size(),
+      pitch_spread >= roll_spread ? "pitch" : "roll", deg_from_rad(worst),
+      deg_from_rad(options.max_standing_ground_spread));
 }
 
 void write_ground_counts(const GroundFrames& frames, CalibrationResult& result) {
@@ -392,12 +475,22 @@ void write_ground(const GroundEstimate& ground, const GroundFrames& frames,
   result.rejections["ground_outlier_roll"] = ground.roll.outliers;
   result.rejections["ground_outlier_pitch"] = ground.pitch.outliers;
   result.rejections["ground_outlier_height"] = ground.height.outliers;
+  if (ground.pitch.lean_fit) {
+    result.diagnostics["pitch_per_acceleration_deg_per_mps2"] =
+        deg_from_rad(ground.pitch.lean_fit->slope);
+    result.diagnostics["pitch_per_acceleration_std_deg_per_mps2"] =
+        deg_from_rad(ground.pitch.lean_fit->slope_std);
+    result.diagnostics["ground_mean_longitudinal_acceleration_mps2"] =
+        ground.pitch.mean_longitudinal_acceleration;
+  }
 }
 
 void write_ground_series(const GroundFrames& frames, CalibrationResult& result) {
   result.series.push_back({"ground_roll", "rad", frames.time, frames.roll});
   result.series.push_back({"ground_pitch", "rad", frames.time, frames.pitch});
   result.series.push_back({"ground_height", "m", frames.time, frames.height});
+  result.series.push_back(
+      {"ground_longitudinal_acceleration", "m/s^2", frames.time, frames.longitudinal_acceleration});
   Series nx{"ground_normal_x", "", frames.time, {}};
   Series ny{"ground_normal_y", "", frames.time, {}};
   Series nz{"ground_normal_z", "", frames.time, {}};
@@ -486,6 +579,7 @@ void GroundBias::Check() const {
   check.non_negative("pitch", pitch);
   check.non_negative("height_m", height_m);
   check.non_negative("pitch_per_acceleration", pitch_per_acceleration);
+  check.positive("pitch_per_acceleration_std", pitch_per_acceleration_std);
   check.non_negative("roll_per_lateral_acceleration", roll_per_lateral_acceleration);
   check.non_negative("height_per_pitch_m", height_per_pitch_m);
 }
@@ -501,6 +595,8 @@ void LidarCalibrationOptions::Check() const {
   check.at_least("ground_every", ground_every, 1);
   check.positive("max_ground_turn_rate", max_ground_turn_rate);
   check.positive("block_s", block_s);
+  check.positive("standing_speed", standing_speed);
+  check.positive("max_standing_ground_spread", max_standing_ground_spread);
   check.at_least("min_sweeps", static_cast<double>(min_sweeps), 3);
   check.at_least("min_ground_frames", static_cast<double>(min_ground_frames), 2);
   check.probability("max_failed_registration_share", max_failed_registration_share);
@@ -520,7 +616,13 @@ CalibrationResult calibrate_lidar(const SweepSource& sweeps,
                                   const LidarCalibrationOptions& options) {
   options.Check();
   const auto started = std::chrono::steady_clock::now();
+  std::optional<std::string> ground_unreliable;
   const auto finish = [&](CalibrationResult& result) {
+    if (ground_unreliable) {
+      // A failed check of the fit outranks too little data: the numbers are there, but wrong.
+      result.status = CalibrationStatus::kUnreliable;
+      append_reason(result, *ground_unreliable);
+    }
     result.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return result;
@@ -561,7 +663,9 @@ CalibrationResult calibrate_lidar(const SweepSource& sweeps,
     return finish(result);
   }
   // Roll, pitch and height stand on their own: they are reported even when the yaw lacks data.
-  write_ground(estimate_ground(frames, options), frames, result);
+  const GroundEstimate ground = estimate_ground(frames, options);
+  write_ground(ground, frames, result);
+  ground_unreliable = check_ground_against_odometry(frames, options);
 
   const double failed_share =
       static_cast<double>(failed_registrations) / static_cast<double>(count);

@@ -4,8 +4,9 @@
 // One pass over the sweeps: they are read and, every `ground_every`-th, their ground plane fitted
 // in parallel, while the odometry registers them in order (a oneTBB pipeline), so a long log never
 // sits in memory. Then:
-//   - the ground planes of frames where the car is not turning give roll, pitch and height (their
-//     medians, so that the body's lean when braking and speeding up averages out);
+//   - the ground planes of frames where the car is not turning give roll, pitch and height (roll
+//     and height their medians, so that the body's lean in left and right turns, braking and
+//     speeding up averages out; the pitch with the lean fitted out against the acceleration);
 //   - the odometry poses are levelled with that roll and pitch and handed to the track alignment
 //     shared with the GNSS/INS calibrator (core/track_alignment.hpp): the heading of the
 //     spline-smoothed track against the levelled LiDAR's heading gives the yaw (the paper's
@@ -43,7 +44,11 @@ struct GroundBias {
   // Defaults in the middle of passenger cars' range (pitch 1.5-3.5 deg/g under braking and
   // acceleration, roll 3-7 deg/g): 0.3 deg and 0.5 deg per m/s^2. A height error follows the
   // pitch by the LiDAR's distance from the point the body pitches about (a roof LiDAR: ~1.5 m).
-  double pitch_per_acceleration = rad_from_deg(0.3);         // [rad / (m/s^2)]
+  double pitch_per_acceleration = rad_from_deg(0.3);  // [rad / (m/s^2)]
+  // The pitch's lean is fitted, not only bounded: the gain above is the prior's mean and this its
+  // standard deviation (the passenger-car range 0.15-0.36 deg per m/s^2 and softer suspensions);
+  // the frames refine it where the drive brakes and speeds up (docs/methods.md, "Ground plane").
+  double pitch_per_acceleration_std = rad_from_deg(0.15);    // [rad / (m/s^2)], > 0
   double roll_per_lateral_acceleration = rad_from_deg(0.5);  // [rad / (m/s^2)]
   double height_per_pitch_m = 1.5;                           // [m / rad]
 
@@ -62,6 +67,13 @@ struct LidarCalibrationOptions {
   double max_ground_turn_rate = 0.05;
   // Per-frame outliers (a passing truck taken for the road, a ramp) are rejected by median/MAD.
   OutlierRejectionOptions ground_outliers{.k = 3.0, .min_sigma = rad_from_deg(0.01)};
+  // The road under a standing LiDAR does not change: when the odometry has the car below
+  // standing_speed in more than half the ground frames and their roll or pitch still spreads
+  // (interquartile range) more than max_standing_ground_spread, the odometry lost the motion and
+  // the result is unreliable. A car settling after a stop moves its pitch by a few tenths of a
+  // degree for a second; a half-minute's standing frames are well inside the limit.
+  double standing_speed = 0.5;                            // [m/s]
+  double max_standing_ground_spread = rad_from_deg(0.2);  // [rad]
   // Standard errors come from the spread of means over moving blocks this long [s]
   // (core/standard_error.hpp): neighbouring frames see the same stretch of road and are not
   // independent (the road's unevenness over tens of metres; the body's lean, whose expected part

@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "x2car/core/error.hpp"
+#include "x2car/io/file_stem_time.hpp"
 #include "x2car/io/kitti_velodyne.hpp"
 #include "x2car/io/pcd.hpp"
 #include "x2car/io/text_lines.hpp"
@@ -17,8 +18,6 @@ namespace x2car::lidar {
 namespace {
 
 namespace fs = std::filesystem;
-
-constexpr std::size_t kNanosecondDigits = 16;  // a whole-number stem this long counts nanoseconds
 
 std::string lower_extension(const fs::path& path) {
   std::string extension = path.extension().string();
@@ -42,29 +41,6 @@ std::vector<fs::path> files_with_extension(const fs::path& folder, std::string_v
   }
   std::ranges::sort(matching);
   return matching;
-}
-
-// The time a file's stem names, or nothing when the stem is not a time.
-std::optional<double> time_from_stem(const std::string& stem) {
-  if (stem.empty() || !std::ranges::all_of(stem, [](char c) {
-        return std::isdigit(static_cast<unsigned char>(c)) != 0 || c == '.';
-      })) {
-    return std::nullopt;
-  }
-  const std::size_t dots = static_cast<std::size_t>(std::ranges::count(stem, '.'));
-  if (dots > 1) return std::nullopt;
-  if (dots == 0) {
-    if (stem.size() < kNanosecondDigits) return std::nullopt;  // a sequence number, not a time
-    std::uint64_t nanoseconds = 0;
-    const auto [end, error] = std::from_chars(stem.data(), stem.data() + stem.size(), nanoseconds);
-    if (error != std::errc{} || end != stem.data() + stem.size()) return std::nullopt;
-    return static_cast<double>(nanoseconds / 1'000'000'000ULL) +
-           static_cast<double>(nanoseconds % 1'000'000'000ULL) * 1e-9;
-  }
-  double seconds = 0.0;
-  const auto [end, error] = std::from_chars(stem.data(), stem.data() + stem.size(), seconds);
-  if (error != std::errc{} || end != stem.data() + stem.size()) return std::nullopt;
-  return seconds;
 }
 
 std::vector<double> read_times_file(const fs::path& path) {
@@ -133,7 +109,7 @@ SweepFolder list_pcd(const fs::path& folder, std::vector<fs::path> files, std::s
   } else {
     bool from_points = false;
     for (const fs::path& file : files) {
-      std::optional<double> time = time_from_stem(file.stem().string());
+      std::optional<double> time = io::time_from_file_stem(file.stem().string());
       if (!time) {
         // The last resort: absolute per-point stamps (pcd.hpp sets time_base from them), at the
         // cost of reading the file twice.

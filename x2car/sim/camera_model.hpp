@@ -11,19 +11,28 @@
 
 #include <Eigen/Geometry>
 
-#include "x2car/io/camera_intrinsics.hpp"
+#include "x2car/core/camera_model.hpp"
 
 namespace x2car::sim {
 
 struct CameraOptions {
-  // 1920x1080, fx = fy = 1200 px (~77 deg horizontal field of view), principal point at the image
-  // centre, no distortion: a common automotive front camera.
-  io::CameraIntrinsics intrinsics;
+  // KITTI's rectified front camera, core::camera_preset("kitti"): 1242x375, fx = fy = 721.5 px
+  // (~81 deg horizontal field of view), no distortion. Other presets: "automotive_1080p",
+  // "dashcam_wide" (core/camera_model.hpp).
+  core::CameraIntrinsics intrinsics = core::camera_preset("kitti");
 
-  void Check() const;  // throws std::invalid_argument naming the offending field
+  // Throws std::invalid_argument naming the offending field, also when some pixel of the image
+  // has no ray (core::check_every_pixel_has_a_ray): the renderer traces one through each.
+  void Check() const;
 };
 
 // R_B_O above: the optical frame's axes written in the camera's body frame.
 Eigen::Matrix3d camera_body_from_optical();
+
+// The optical frame's pose in the world for a vehicle pose and the camera's (body) mounting:
+// world_from_vehicle * vehicle_from_camera * [R_B_O | 0]. A point p_world is seen at
+// core::project_to_pixel(intrinsics, world_from_camera_optical(...).inverse() * p_world).
+Eigen::Isometry3d world_from_camera_optical(const Eigen::Isometry3d& world_from_vehicle,
+                                            const Eigen::Isometry3d& vehicle_from_camera);
 
 }  // namespace x2car::sim

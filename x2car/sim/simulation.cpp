@@ -1,5 +1,6 @@
 #include "x2car/sim/simulation.hpp"
 
+#include <fmt/chrono.h>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -11,7 +12,9 @@
 #include "x2car/core/enum_names.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/core/options_check.hpp"
+#include "x2car/io/camera_info_yaml.hpp"
 #include "x2car/io/ins_csv.hpp"
+#include "x2car/io/kitti_calib_cam.hpp"
 #include "x2car/io/text_lines.hpp"
 #include "x2car/sim/random.hpp"
 
@@ -28,6 +31,7 @@ constexpr std::uint64_t kLidarNoiseStream = 501;
 constexpr std::uint64_t kRadarMountingStream = 102;
 constexpr std::uint64_t kCameraMountingStream = 103;
 constexpr std::uint64_t kRadarNoiseStream = 601;
+constexpr std::uint64_t kCameraNoiseStream = 701;
 // The named radars' (radar_positions, in table order): one stream each, + index.
 constexpr std::uint64_t kNamedRadarMountingStream = 110;
 constexpr std::uint64_t kNamedRadarNoiseStream = 610;
@@ -205,6 +209,7 @@ void SimulationOptions::Check() const {
   radar.Check();
   world_radar.Check();
   camera.Check();
+  camera_render.Check();
   // The layouts' track id fields: Conti 0-99, Delphi 0-63 (a cluster radar writes none).
   const int max_ids = radar_layout == io::RadarLayout::kDelphi ? 64 : 100;
   check.that(
@@ -256,7 +261,8 @@ Simulation simulate(const SimulationOptions& options) {
   }
   const bool lidar = truth.vehicle_from_sensor.contains("lidar");
   const bool radar = std::any_of(options.sensors.begin(), options.sensors.end(), is_radar_sensor);
-  if (lidar || radar) {  // one world, whichever sensors see it
+  const bool camera = truth.vehicle_from_sensor.contains("camera");
+  if (lidar || radar || camera) {  // one world, whichever sensors see it
     WorldOptions world = options.world;
     world.road.highway_lanes = options.route.plan.highway.lanes;  // the lanes the route changes
     world.road.lane_width_m = options.route.plan.highway.lane_width_m;
@@ -279,7 +285,11 @@ Simulation simulate(const SimulationOptions& options) {
     }
     simulation.radar_layout = options.radar_layout;
   }
-  if (truth.vehicle_from_sensor.contains("camera")) simulation.camera = options.camera.intrinsics;
+  if (camera) {
+    simulation.camera = options.camera.intrinsics;
+    simulation.camera_output =
+        CameraOutput{options.camera_render, Random::derive_seed(options.seed, kCameraNoiseStream)};
+  }
   return simulation;
 }
 
@@ -296,8 +306,18 @@ std::string format_radar_truth_csv(std::span<const RadarScan> scans) {
   return text;
 }
 
+namespace {
+
+// KITTI's calib_time form, "09-Jan-2012 13:57:47" (UTC), of the log's time 0.
+std::string kitti_calib_time(double unix_time) {
+  const auto seconds = static_cast<std::time_t>(std::floor(unix_time));
+  return fmt::format("{:%d-%b-%Y %H:%M:%S}", fmt::gmtime(seconds));
+}
+
+}  // namespace
+
 void write_simulation(const Simulation& simulation, const std::filesystem::path& out_dir,
-                      const SweepProgress& lidar_progress) {
+                      const SweepProgress& lidar_progress, const FrameProgress& camera_progress) {
   create_folder(out_dir);
   io::write_ground_truth(out_dir / "ground_truth.yaml", simulation.truth);
 
@@ -325,7 +345,17 @@ void write_simulation(const Simulation& simulation, const std::filesystem::path&
   }
   if (simulation.camera) {
     create_folder(out_dir / "camera");
-    io::write_camera_intrinsics(out_dir / "camera" / kCameraIntrinsicsFile, *simulation.camera);
+    const std::filesystem::path folder = out_dir / "camera";
+    io::write_camera_info_yaml(folder / kCameraIntrinsicsFile, *simulation.camera);
+    io::write_kitti_calib_cam(folder / kCameraKittiCalibFile, *simulation.camera, kCameraKittiIndex,
+                              kitti_calib_time(simulation.start_unix_time));
+    if (simulation.camera_output) {
+      write_simulated_camera(
+          simulation.world, simulation.states,
+          simulation.truth.vehicle_from_sensor.at("camera").vehicle_from_sensor(),
+          *simulation.camera, *simulation.camera_output, folder, simulation.start_unix_time,
+          camera_progress);
+    }
   }
 }
 

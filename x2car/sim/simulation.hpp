@@ -11,11 +11,12 @@
 #include <string>
 #include <vector>
 
-#include "x2car/io/camera_intrinsics.hpp"
+#include "x2car/core/camera_model.hpp"
 #include "x2car/io/ground_truth.hpp"
 #include "x2car/io/novatel_csv.hpp"
 #include "x2car/io/radar_csv.hpp"
 #include "x2car/sim/camera_model.hpp"
+#include "x2car/sim/camera_writer.hpp"
 #include "x2car/sim/ins_model.hpp"
 #include "x2car/sim/lidar_writer.hpp"
 #include "x2car/sim/radar_model.hpp"
@@ -60,8 +61,9 @@ struct SimulationOptions {
   LidarOptions lidar;  // 64 beams at 10 Hz by default
   LidarFileFormat lidar_format = LidarFileFormat::kPcd;  // lidar/ as PCD, KITTI .bin or both
   RadarOptions radar;  // ARS408-like by default; use RadarOptions::delphi_esr() with kDelphi
-  WorldRadarOptions world_radar;  // how the world's objects become targets
-  CameraOptions camera;           // intrinsics (1920x1080, no distortion); no images yet
+  WorldRadarOptions world_radar;      // how the world's objects become targets
+  CameraOptions camera;               // intrinsics (the "kitti" preset)
+  CameraRenderOptions camera_render;  // how its images are rendered (camera_render.hpp)
   io::RadarLayout radar_layout = io::RadarLayout::kConti;  // radar/ as Conti, Delphi or generic
   double start_unix_time = io::kDefaultStartUnixTime;      // UTC of the log's time 0 [s]
   // A recorded path to drive instead of a generated route (`--trajectory`): poses in a z-up world
@@ -81,7 +83,7 @@ struct Simulation {
   io::GroundTruth truth;
   VehicleStates states;        // the car's true motion at motion.rate_hz
   std::vector<InsSample> ins;  // empty unless "ins" was simulated
-  World world;                 // empty unless "lidar" or "radar" was simulated
+  World world;                 // empty unless "lidar", "radar" or "camera" was simulated
   // Set when "lidar" was simulated. Its sweeps are made while write_simulation writes them, so
   // that a long drive never holds them all in memory.
   std::optional<LidarOutput> lidar;
@@ -90,8 +92,10 @@ struct Simulation {
   std::map<std::string, std::vector<RadarScan>> radars;
   io::RadarLayout radar_layout = io::RadarLayout::kConti;
   // Set when "camera" was simulated: its intrinsics (its mounting is in truth as "camera", that of
-  // its body frame; camera_model.hpp). No images yet.
-  std::optional<io::CameraIntrinsics> camera;
+  // its body frame; camera_model.hpp).
+  std::optional<core::CameraIntrinsics> camera;
+  // Set with `camera`. Its frames are rendered while write_simulation writes them.
+  std::optional<CameraOutput> camera_output;
   double start_unix_time = 0.0;  // UTC of time 0 [s]
 };
 
@@ -109,11 +113,13 @@ Simulation simulate(const SimulationOptions& options);
 //   per radar sensor a folder named after it, radar/ or radar_left/ ... (io::write_radar in the
 //   simulation's layout; emptied first, so that a rerun leaves no stale scans) and
 //   <sensor>_truth.csv (radar_truth.csv, radar_left_truth.csv: each detection's source),
-//   camera/intrinsics.yaml
+//   camera/intrinsics.yaml (ROS camera_info), camera/calib_cam_to_cam.txt (KITTI, camera 02),
+//   camera/images/, camera/timestamps.txt (camera_writer.hpp) and camera/labels.csv
 // Creates the folder; InputError when it cannot be written. `lidar_progress` follows the LiDAR's
-// sweeps, the slow part of a long drive (lidar_writer.hpp).
+// sweeps and `camera_progress` the camera's frames, the slow parts of a long drive.
 void write_simulation(const Simulation& simulation, const std::filesystem::path& out_dir,
-                      const SweepProgress& lidar_progress = {});
+                      const SweepProgress& lidar_progress = {},
+                      const FrameProgress& camera_progress = {});
 
 // The radar detections' ground truth, one row per detection in the order of the radar's files:
 //   time,track_id,source,object_id,moving,range,azimuth,range_rate
@@ -124,8 +130,12 @@ constexpr const char* kRadarTruthFile = "radar_truth.csv";
 // That file of radar sensor `sensor`: "<sensor>_truth.csv".
 std::string radar_truth_file(const std::string& sensor);
 
-// The camera's intrinsics (io/camera_intrinsics.hpp), in the drive's camera/ folder.
+// The camera's intrinsics in the drive's camera/ folder: a ROS camera_info YAML
+// (io/camera_info_yaml.hpp) and a KITTI calib_cam_to_cam.txt (io/kitti_calib_cam.hpp) that holds
+// it as camera kCameraKittiIndex, like KITTI raw's image_02.
 constexpr const char* kCameraIntrinsicsFile = "intrinsics.yaml";
+constexpr const char* kCameraKittiCalibFile = "calib_cam_to_cam.txt";
+constexpr int kCameraKittiIndex = 2;
 std::string format_radar_truth_csv(std::span<const RadarScan> scans);
 
 }  // namespace x2car::sim

@@ -12,7 +12,8 @@
 #include "x2car/core/error.hpp"
 #include "x2car/core/robust_stats.hpp"
 #include "x2car/core/test_matchers.hpp"
-#include "x2car/io/camera_intrinsics.hpp"
+#include "x2car/io/camera_info_yaml.hpp"
+#include "x2car/io/kitti_calib_cam.hpp"
 #include "x2car/io/novatel_csv.hpp"
 #include "x2car/io/pose_file.hpp"
 #include "x2car/io/radar_csv.hpp"
@@ -186,7 +187,10 @@ TEST(Simulation, CameraWritesItsIntrinsicsAndMountingAndChangesNoOtherBytes) {
   const auto without = temp_folder("simulation_camera_a");
   write_simulation(simulate(options), without);
   options.sensors = {"ins", "radar", "camera"};
+  options.camera.intrinsics = core::camera_preset("automotive_1080p");
   options.camera.intrinsics.fx = 1100.0;
+  options.camera_render.rate_hz = 0.25;  // 2 frames of 1920x1080: the images' own tests are
+                                         // camera_writer_test.cpp's
   const auto with = temp_folder("simulation_camera_b");
   const Simulation simulation = simulate(options);
   write_simulation(simulation, with);
@@ -195,12 +199,21 @@ TEST(Simulation, CameraWritesItsIntrinsicsAndMountingAndChangesNoOtherBytes) {
   ASSERT_TRUE(truth.vehicle_from_sensor.contains("camera"));
   EXPECT_EQ(truth.vehicle_from_sensor.at("camera").rotation.yaw,
             simulation.truth.vehicle_from_sensor.at("camera").rotation.yaw);
-  EXPECT_EQ(io::read_camera_intrinsics(with / "camera" / kCameraIntrinsicsFile),
+  EXPECT_EQ(io::read_camera_info_yaml(with / "camera" / kCameraIntrinsicsFile),
             options.camera.intrinsics);
+  EXPECT_EQ(io::read_kitti_calib_cam(with / "camera" / kCameraKittiCalibFile, 2,
+                                     io::KittiImages::kUnrectified),
+            options.camera.intrinsics);
+  // calib_time is the log's time 0 (UTC), in KITTI's form.
+  ASSERT_EQ(options.start_unix_time, 1780308000.0);
+  EXPECT_EQ(io::read_text_file(with / "camera" / kCameraKittiCalibFile).substr(0, 33),
+            "calib_time: 01-Jun-2026 10:00:00\n");
 
   // Every other file is the same, byte for byte; the ground truth only gains the camera.
   auto others = folder_bytes(with);
-  others.erase("camera/intrinsics.yaml");
+  EXPECT_TRUE(others.contains("camera/images/0000000001.png"));
+  EXPECT_TRUE(others.contains("camera/labels.csv"));
+  std::erase_if(others, [](const auto& file) { return file.first.starts_with("camera/"); });
   const auto before = folder_bytes(without);
   const std::string truth_before = before.at("ground_truth.yaml");
   const std::string truth_after = others.at("ground_truth.yaml");
@@ -228,7 +241,7 @@ TEST(Simulation, DrawnCameraMountingSitsBehindTheWindscreen) {
     EXPECT_LE(std::abs(deg_from_rad(camera.rotation.pitch)), 3.0);
     EXPECT_LE(std::abs(deg_from_rad(camera.rotation.roll)), 3.0);
     ASSERT_TRUE(simulation.camera.has_value());
-    EXPECT_EQ(*simulation.camera, io::CameraIntrinsics{});
+    EXPECT_EQ(*simulation.camera, core::camera_preset("kitti"));
   }
 }
 

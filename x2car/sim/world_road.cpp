@@ -16,6 +16,7 @@ constexpr double kStopLineAhead = 4.5;    // ahead of the stop point (the rear a
 constexpr double kUrbanDash = 3.0, kUrbanGap = 6.0;       // centre line [m]
 constexpr double kHighwayDash = 6.0, kHighwayGap = 12.0;  // lane lines [m]
 constexpr double kRailBottom = 0.45, kRailTop = 0.75;     // W-beam band above the road [m]
+constexpr std::uint32_t kYellowPaint = 0xe8b828;          // urban centre line
 constexpr double kPostSize = 0.12, kPostHeight = 0.75;    // guard-rail posts [m]
 
 // Adds a strip over [s_begin, s_end] in pieces of at most kStripPiece, leaving out the stretches
@@ -31,10 +32,13 @@ void add_pieces(WorldBuilder& builder, ObjectKind kind, const Material& material
   }
 }
 
-// A painted line centred `lateral` [m] from the centre line: solid (dash <= 0) or dashed.
+// A painted line centred `lateral` [m] from the centre line: solid (dash <= 0) or dashed, white
+// or (`colour_rgb`, the camera's) another colour.
 void add_line(WorldBuilder& builder, double lateral, double s_begin, double s_end, double dash,
-              double gap) {
-  const Material paint = standard_material(Surface::kLanePaint);
+              double gap,
+              std::uint32_t colour_rgb = standard_material(Surface::kLanePaint).colour_rgb) {
+  Material paint = standard_material(Surface::kLanePaint);
+  paint.colour_rgb = colour_rgb;
   const RoadLayout& road = builder.world.road;
   auto in_transition = [&](double s) { return road.in_section_transition(s); };
   RoadStrip strip{0.0,
@@ -94,7 +98,9 @@ void add_urban_road(WorldBuilder& builder, const CrossSection& section, double a
                a, b, never);
     add_line(builder, side * (section.edge_line - 0.5 * kMarkingWidth), a, b, 0.0, 0.0);
   }
-  add_line(builder, 0.0, a, b, kUrbanDash, kUrbanGap);
+  // The centre line between the two directions is yellow (as in North America): the camera sees
+  // which line is which; its LiDAR reflectivity is the white paint's.
+  add_line(builder, 0.0, a, b, kUrbanDash, kUrbanGap, kYellowPaint);
 }
 
 void add_highway_road(WorldBuilder& builder, const CrossSection& section, double a, double b) {

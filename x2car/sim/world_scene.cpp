@@ -50,6 +50,7 @@ void EmbreeSceneRelease::operator()(RTCSceneTy* scene) const { rtcReleaseScene(s
 
 TriangleScene::TriangleScene(RTCDeviceTy* device, TriangleMesh mesh)
     : object_(std::move(mesh.triangle_object)),
+      surface_(std::move(mesh.triangle_surface)),
       reflectivity_(std::move(mesh.triangle_reflectivity)) {
   if (mesh.triangles.empty()) return;
   scene_.reset(rtcNewScene(device));
@@ -101,11 +102,13 @@ MoverScene WorldScene::movers_at(double time, const Eigen::Vector3d& centre_worl
   return MoverScene(device_.get(), std::move(mesh));
 }
 
-void WorldScene::trace(const Eigen::Vector3d& from_world,
-                       std::span<const Eigen::Vector3f> directions, float max_range,
-                       const MoverScene* movers, std::span<RayHit> hits) const {
-  if (hits.size() != directions.size()) throw std::invalid_argument("trace: sizes differ");
-  const Eigen::Vector3f from = (from_world - origin_).cast<float>();
+// Casts `directions` from `from` (scene coordinates) in packets against the static scene and the
+// movers; calls on_hit(index, scene, triangle, range, geometric normal) for each ray that hits and
+// on_miss(index) for each that does not.
+template <typename OnHit, typename OnMiss>
+void WorldScene::trace_packets(const Eigen::Vector3f& from,
+                               std::span<const Eigen::Vector3f> directions, float max_range,
+                               const MoverScene* movers, OnHit on_hit, OnMiss on_miss) const {
   RTCScene static_scene = static_->scene();
   RTCScene mover_scene = movers != nullptr ? movers->triangles().scene() : nullptr;
   for (std::size_t start = 0; start < directions.size(); start += kPacket) {
@@ -139,19 +142,95 @@ void WorldScene::trace(const Eigen::Vector3d& from_world,
     }
     if (mover_scene != nullptr) intersect(mover_scene, valid, rays);
     for (std::size_t i = 0; i < count; ++i) {
-      RayHit& hit = hits[start + i];
-      hit = RayHit{};
       const bool on_mover = rays.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
-      if (!on_mover && static_hit[i] == RTC_INVALID_GEOMETRY_ID) continue;
+      if (!on_mover && static_hit[i] == RTC_INVALID_GEOMETRY_ID) {
+        on_miss(start + i);
+        continue;
+      }
       const TriangleScene& scene = on_mover ? movers->triangles() : *static_;
       const std::uint32_t triangle = on_mover ? rays.hit.primID[i] : static_hit[i];
       const Eigen::Vector3f normal(rays.hit.Ng_x[i], rays.hit.Ng_y[i], rays.hit.Ng_z[i]);
-      hit.range = rays.ray.tfar[i];
-      hit.object_id = scene.object(triangle);
-      hit.reflectivity = scene.reflectivity(triangle);
-      hit.cos_incidence =
-          std::abs(normal.dot(directions[start + i])) / std::max(normal.norm(), 1e-20f);
+      on_hit(start + i, scene, triangle, rays.ray.tfar[i], normal);
     }
+  }
+}
+
+void WorldScene::trace(const Eigen::Vector3d& from_world,
+                       std::span<const Eigen::Vector3f> directions, float max_range,
+                       const MoverScene* movers, std::span<RayHit> hits) const {
+  if (hits.size() != directions.size()) throw std::invalid_argument("trace: sizes differ");
+  trace_packets((from_world - origin_).cast<float>(), directions, max_range, movers,
+                [&](std::size_t i, const TriangleScene& scene, std::uint32_t triangle, float range,
+                    const Eigen::Vector3f& normal) {
+                  RayHit& hit = hits[i];
+                  hit.range = range;
+                  hit.object_id = scene.object(triangle);
+                  hit.reflectivity = scene.reflectivity(triangle);
+                  hit.cos_incidence =
+                      std::abs(normal.dot(directions[i])) / std::max(normal.norm(), 1e-20f);
+                },
+                [&](std::size_t i) { hits[i] = RayHit{}; });
+}
+
+void WorldScene::trace_surfaces(const Eigen::Vector3d& from_world,
+                                std::span<const Eigen::Vector3f> directions, float max_range,
+                                const MoverScene* movers, std::span<SurfaceHit> hits) const {
+  if (hits.size() != directions.size()) throw std::invalid_argument("trace: sizes differ");
+  trace_packets((from_world - origin_).cast<float>(), directions, max_range, movers,
+                [&](std::size_t i, const TriangleScene& scene, std::uint32_t triangle, float range,
+                    const Eigen::Vector3f& normal) {
+                  SurfaceHit& hit = hits[i];
+                  hit.range = range;
+                  hit.object_id = scene.object(triangle);
+                  hit.triangle = triangle;
+                  hit.surface = scene.surface(triangle);
+                  const float norm = std::max(normal.norm(), 1e-20f);
+                  // Facing the camera: the side the ray arrives at.
+                  hit.normal = normal.dot(directions[i]) > 0.0f ? Eigen::Vector3f(-normal / norm)
+                                                                : Eigen::Vector3f(normal / norm);
+                },
+                [&](std::size_t i) { hits[i] = SurfaceHit{}; });
+}
+
+void WorldScene::occluded(std::span<const Eigen::Vector3d> from_world,
+                          const Eigen::Vector3f& direction, float max_range,
+                          const MoverScene* movers, std::span<std::uint8_t> blocked) const {
+  if (blocked.size() != from_world.size()) throw std::invalid_argument("occluded: sizes differ");
+  RTCScene scenes[2] = {static_->scene(),
+                        movers != nullptr ? movers->triangles().scene() : nullptr};
+  for (std::size_t start = 0; start < from_world.size(); start += kPacket) {
+    const std::size_t count = std::min(kPacket, from_world.size() - start);
+    alignas(64) RTCRay16 rays;
+    alignas(64) std::array<int, kPacket> valid{};
+    for (std::size_t i = 0; i < kPacket; ++i) {
+      const Eigen::Vector3f from =
+          i < count ? Eigen::Vector3f((from_world[start + i] - origin_).cast<float>())
+                    : Eigen::Vector3f::Zero();
+      valid[i] = i < count ? -1 : 0;
+      rays.org_x[i] = from.x();
+      rays.org_y[i] = from.y();
+      rays.org_z[i] = from.z();
+      rays.dir_x[i] = direction.x();
+      rays.dir_y[i] = direction.y();
+      rays.dir_z[i] = direction.z();
+      rays.tnear[i] = 0.0f;
+      rays.tfar[i] = max_range;
+      rays.time[i] = 0.0f;
+      rays.mask[i] = 0xFFFFFFFFu;
+      rays.id[i] = static_cast<unsigned>(i);
+      rays.flags[i] = 0;
+    }
+    for (RTCScene scene : scenes) {
+      if (scene == nullptr) continue;
+      RTCIntersectContext context;
+      rtcInitIntersectContext(&context);
+      rtcOccluded16(valid.data(), scene, &context, &rays);
+      // An occluded ray has tfar = -inf; it need not be cast against the next scene.
+      for (std::size_t i = 0; i < count; ++i) {
+        if (rays.tfar[i] < 0.0f) valid[i] = 0;
+      }
+    }
+    for (std::size_t i = 0; i < count; ++i) blocked[start + i] = rays.tfar[i] < 0.0f ? 1 : 0;
   }
 }
 

@@ -1,4 +1,4 @@
-// The world as Embree 3 scenes, for ray casting (the LiDAR; later the camera).
+// The world as Embree 3 scenes, for ray casting (the LiDAR and the camera).
 //
 // The static world is one triangle mesh in one scene, built once. Moving objects are placed per
 // query time in a small scene of their own (MoverScene): the LiDAR builds one per sweep, with
@@ -47,6 +47,15 @@ struct RayHit {
   float cos_incidence = 0.0f;  // |cos| of the angle between the ray and the surface normal
 };
 
+// A hit as the camera needs it (camera_render.hpp): what was hit and how it faces the ray.
+struct SurfaceHit {
+  float range = std::numeric_limits<float>::infinity();  // along the unit direction [m]
+  std::uint32_t object_id = kNoObject;                   // object or mover hit
+  std::uint32_t triangle = 0;                            // in its scene (static or movers)
+  Surface surface = Surface::kAsphalt;                   // of the part hit
+  Eigen::Vector3f normal = Eigen::Vector3f::Zero();      // unit, ENU, towards the ray's origin
+};
+
 // One triangle mesh committed to an Embree scene, with its per-triangle tables.
 class TriangleScene {
  public:
@@ -56,10 +65,12 @@ class TriangleScene {
   std::size_t triangle_count() const { return object_.size(); }
   std::uint32_t object(std::uint32_t triangle) const { return object_[triangle]; }
   float reflectivity(std::uint32_t triangle) const { return reflectivity_[triangle]; }
+  Surface surface(std::uint32_t triangle) const { return surface_[triangle]; }
 
  private:
   EmbreeScene scene_;
   std::vector<std::uint32_t> object_;
+  std::vector<Surface> surface_;
   std::vector<float> reflectivity_;
 };
 
@@ -91,8 +102,20 @@ class WorldScene {
   // static world and, when given, the movers; hits[i] answers directions[i]. Thread-safe.
   void trace(const Eigen::Vector3d& from_world, std::span<const Eigen::Vector3f> directions,
              float max_range, const MoverScene* movers, std::span<RayHit> hits) const;
+  // As trace, with the part hit and its normal (the camera).
+  void trace_surfaces(const Eigen::Vector3d& from_world,
+                      std::span<const Eigen::Vector3f> directions, float max_range,
+                      const MoverScene* movers, std::span<SurfaceHit> hits) const;
+  // Whether anything lies within `max_range` [m] of each point (ENU) along the one unit direction
+  // (ENU): blocked[i] = 1 when so (the camera's shadow rays). Thread-safe.
+  void occluded(std::span<const Eigen::Vector3d> from_world, const Eigen::Vector3f& direction,
+                float max_range, const MoverScene* movers, std::span<std::uint8_t> blocked) const;
 
  private:
+  template <typename OnHit, typename OnMiss>
+  void trace_packets(const Eigen::Vector3f& from, std::span<const Eigen::Vector3f> directions,
+                     float max_range, const MoverScene* movers, OnHit on_hit, OnMiss on_miss) const;
+
   const World& world_;
   Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
   EmbreeDevice device_;

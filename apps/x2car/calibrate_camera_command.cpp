@@ -1,0 +1,207 @@
+// x2car calibrate camera: the camera's roll, pitch and yaw from a folder of images (x2car/camera).
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <filesystem>
+#include <optional>
+
+#include "apps/x2car/calibration_output.hpp"
+#include "apps/x2car/number_checks.hpp"
+#include "apps/x2car/progress_bar.hpp"
+#include "apps/x2car/subcommand.hpp"
+#include "x2car/camera/camera_calibration.hpp"
+#include "x2car/camera/camera_frames.hpp"
+#include "x2car/camera/ins_motion.hpp"
+#include "x2car/core/error.hpp"
+#include "x2car/io/autoware_yaml.hpp"
+#include "x2car/io/camera_info_yaml.hpp"
+#include "x2car/io/image_folder.hpp"
+#include "x2car/io/ins_log.hpp"
+#include "x2car/io/kitti_calib_cam.hpp"
+#include "x2car/io/text_lines.hpp"
+#include "x2car/io/urdf_joint.hpp"
+
+namespace x2car::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CalibrateCameraArguments {
+  std::string input_path;
+  std::string intrinsics_path;
+  std::string ins_path;
+  std::optional<int> camera_index;
+  bool unrectified = false;
+  std::string estimator = "geometric";
+  std::optional<int> window_frames;
+  std::optional<double> max_window_std_deg;
+  bool skip_bad_images = false;
+  OutputArguments output;
+};
+
+bool is_kitti_calib(const fs::path& path) { return path.extension() == ".txt"; }
+
+core::CameraIntrinsics read_intrinsics(const fs::path& path,
+                                       const CalibrateCameraArguments& arguments) {
+  spdlog::info("intrinsics from {}", path.string());
+  if (is_kitti_calib(path)) {
+    return io::read_kitti_calib_cam(
+        path, arguments.camera_index.value_or(2),
+        arguments.unrectified ? io::KittiImages::kUnrectified : io::KittiImages::kRectified);
+  }
+  return io::read_camera_info_yaml(path);
+}
+
+// --intrinsics, else the drive's camera/intrinsics.yaml, else a KITTI calib_cam_to_cam.txt in the
+// input folder or the folder above it (KITTI raw keeps it beside the drives of a day).
+core::CameraIntrinsics find_intrinsics(const CalibrateCameraArguments& arguments) {
+  if (!arguments.intrinsics_path.empty())
+    return read_intrinsics(arguments.intrinsics_path, arguments);
+  const fs::path input = arguments.input_path;
+  const fs::path named = input.filename().empty() ? input.parent_path() : input;
+  for (const fs::path& candidate :
+       {input / "camera" / "intrinsics.yaml", input / "intrinsics.yaml",
+        input / "camera" / "calib_cam_to_cam.txt", input / "calib_cam_to_cam.txt",
+        named.parent_path() / "calib_cam_to_cam.txt"}) {
+    std::error_code error;
+    if (fs::is_regular_file(candidate, error)) return read_intrinsics(candidate, arguments);
+  }
+  throw InputError(arguments.input_path, 0, "intrinsics",
+                   "no camera/intrinsics.yaml or calib_cam_to_cam.txt found; give --intrinsics");
+}
+
+camera::CameraCalibrationOptions calibration_options(const CalibrateCameraArguments& arguments) {
+  camera::CameraCalibrationOptions options;
+  if (arguments.window_frames) options.filter.window_frames = *arguments.window_frames;
+  if (arguments.max_window_std_deg) {
+    options.filter.max_window_std = rad_from_deg(*arguments.max_window_std_deg);
+  }
+  options.skip_bad_images = arguments.skip_bad_images;
+  options.keep_series = !arguments.output.without_series;
+  return options;
+}
+
+// The car's speed and yaw rate at each frame from a GNSS/INS log. Frames stamped in Unix time
+// (KITTI raw, the simulator) meet a log with absolute times on the Unix clock; otherwise both are
+// taken to share one clock.
+std::vector<std::optional<camera::VehicleMotion>> motion_from_log(
+    const std::string& path, const camera::CameraFrameSource& frames) {
+  const io::InsLog log = io::read_ins_log(path);
+  camera::InsMotionOptions options;
+  const bool unix_frames = !frames.times.empty() && frames.times.front() > 1e8;
+  if (unix_frames && log.start_unix_time) options.ins_to_frame_offset_s = *log.start_unix_time;
+  std::vector<std::optional<camera::VehicleMotion>> motion =
+      camera::motion_from_ins(frames.times, log.records, options);
+  const auto covered = std::ranges::count_if(motion, [](const auto& m) { return m.has_value(); });
+  spdlog::info("motion from {}: {} of {} frames covered", path, covered, motion.size());
+  if (covered == 0) {
+    throw InputError(path, 0, "time", "the log covers none of the frames' times (another clock?)");
+  }
+  return motion;
+}
+
+// The optical frame (x right, y down, z forward; DESIGN §1) beside camera_link in --yaml and
+// --urdf: the YAML gets base_link -> <sensor>_optical_frame too, the URDF a second fixed joint
+// <sensor> -> <sensor>_optical_frame with R_B_O (rpy -pi/2, 0, -pi/2, as ROS cameras have it).
+void write_optical_frame(const CalibrationResult& result, const OutputArguments& output) {
+  if (!result.ok() || (output.yaml_path.empty() && output.urdf_path.empty())) return;
+  // The camera's translation is not estimated (x, y, z = 0), as the other writers say.
+  const Extrinsic body{"base_link", result.sensor,
+                       make_transform(result.angles_or_zero(), Eigen::Vector3d::Zero())};
+  Eigen::Isometry3d body_from_optical = Eigen::Isometry3d::Identity();
+  body_from_optical.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  const std::string optical_name = body.child_frame + "_optical_frame";
+  const std::string note = fmt::format(
+      "x2car did not estimate these parts of {}; they are written as 0: x, y, z", result.sensor);
+  if (!output.yaml_path.empty()) {
+    const std::vector<Extrinsic> both = {
+        body,
+        Extrinsic{body.parent_frame, optical_name, body.parent_from_child * body_from_optical}};
+    io::write_text_file(output.yaml_path, "# " + note + "\n" + io::format_autoware(both));
+  }
+  if (!output.urdf_path.empty()) {
+    io::write_text_file(
+        output.urdf_path,
+        "<!-- " + note + " -->\n" + io::format_urdf(body) +
+            io::format_urdf(Extrinsic{body.child_frame, optical_name, body_from_optical}));
+  }
+}
+
+int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
+  check_output_arguments(arguments.output,
+                         {{{"--input", arguments.input_path}, {"--ins", arguments.ins_path}}});
+  const core::CameraIntrinsics intrinsics = find_intrinsics(arguments);
+  const io::ImageFolder folder = io::list_images(arguments.input_path, arguments.camera_index);
+  spdlog::info("found {} images in {} (times from {}; {} other files ignored)",
+               folder.images.size(), folder.folder.string(), folder.time_source,
+               folder.ignored_files);
+  camera::CameraCalibrationOptions options = calibration_options(arguments);
+  camera::CameraFrameSource frames = camera::camera_frames_from(folder);
+  if (!arguments.ins_path.empty()) frames.motion = motion_from_log(arguments.ins_path, frames);
+  ProgressBar progress("frames", spdlog::should_log(spdlog::level::info));
+  options.progress = progress.callback();
+  const CalibrationResult result = camera::calibrate_camera(frames, intrinsics, options);
+  progress.finish();
+  const int exit_code = finish_calibration(result, arguments.output);
+  write_optical_frame(result, arguments.output);
+  return exit_code;
+}
+
+}  // namespace
+
+RunCommand setup_calibrate_camera_command(CLI::App& command) {
+  auto arguments = std::make_shared<CalibrateCameraArguments>();
+  const camera::CameraCalibrationOptions defaults;
+  command
+      .add_option("-i,--input", arguments->input_path,
+                  "Folder of images: a drive folder holding camera/images/ and "
+                  "camera/timestamps.txt, a KITTI raw drive (image_0X/data/), or images with a "
+                  "timestamps.txt or named by their times")
+      ->type_name("DIR")
+      ->required();
+  command
+      .add_option("--intrinsics", arguments->intrinsics_path,
+                  "ROS camera_info or OpenCV calibration YAML, or a KITTI calib_cam_to_cam.txt "
+                  "(default: camera/intrinsics.yaml or calib_cam_to_cam.txt beside the images)")
+      ->type_name("FILE");
+  command
+      .add_option(
+          "--ins", arguments->ins_path,
+          "GNSS/INS log (any form x2car reads): frames slow, turning or accelerating are not used")
+      ->type_name("FILE");
+  command
+      .add_option("--camera-index", arguments->camera_index,
+                  "KITTI camera: image_0X/ and the _0X keys of calib_cam_to_cam.txt (default 02)")
+      ->check(CLI::Range(0, 9));
+  command.add_flag("--unrectified", arguments->unrectified,
+                   "The images are KITTI's unrectified ones (*_extract): use K_0X and D_0X, not "
+                   "P_rect_0X");
+  command.add_option("--estimator", arguments->estimator, "Per-frame estimator")
+      ->check(CLI::IsMember({"geometric"}))
+      ->default_str("geometric");
+  command
+      .add_option("--window-frames", arguments->window_frames,
+                  "Frames per steadiness window (the paper's n)")
+      ->check(CLI::Range(2, 100000))
+      ->default_str(std::to_string(defaults.filter.window_frames));
+  command
+      .add_option("--max-window-std-deg", arguments->max_window_std_deg,
+                  "Largest std of an angle over a window that counts as steady (the paper's e) "
+                  "[deg]")
+      ->check(positive_number())
+      ->default_str(fmt::format("{:.4g}", deg_from_rad(defaults.filter.max_window_std)));
+  command.add_flag("--skip-bad-images", arguments->skip_bad_images,
+                   "Skip images that cannot be decoded instead of stopping; they are counted in "
+                   "the result");
+  add_output_options(command, arguments->output);
+  command.footer(
+      "Each frame's vanishing point of the road and horizon give the rotation; frames are kept "
+      "only in windows where the angles are steady (the paper's n = 100 frames, std < 0.005 rad). "
+      "--yaml and --urdf hold camera_link and the optical frame. See docs/methods.md.\n"
+      "\n"
+      "Example:\n"
+      "  x2car calibrate camera --input drive --out camera.json");
+  return [arguments] { return run_calibrate_camera(*arguments); };
+}
+
+}  // namespace x2car::cli

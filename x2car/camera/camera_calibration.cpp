@@ -1,0 +1,289 @@
+#include "x2car/camera/camera_calibration.hpp"
+
+#include <fmt/format.h>
+#include <tbb/parallel_pipeline.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <opencv2/core.hpp>
+#include <thread>
+
+#include "x2car/camera/vanishing_rotation.hpp"
+#include "x2car/core/error.hpp"
+#include "x2car/core/options_check.hpp"
+
+namespace x2car::camera {
+
+void CameraCalibrationOptions::Check() const {
+  const OptionsCheck check("CameraCalibrationOptions");
+  if (!estimator) geometric.Check();
+  filter.Check();
+  check.positive("max_window_disagreement", max_window_disagreement);
+}
+
+namespace {
+
+constexpr const char* kSensor = "camera";
+
+// What the parallel stage found for one frame.
+struct FrameRecord {
+  bool gated = false;  // the motion gate skipped it before decoding
+  FrameEstimate estimate;
+  std::optional<EulerAngles> angles;      // from a usable estimate, unless degenerate
+  std::optional<std::string> read_error;  // skip_bad_images caught an InputError
+  std::exception_ptr error;               // anything else: ends the run
+};
+
+std::string frame_name(const CameraFrameSource& frames, std::size_t index) {
+  return frames.name ? frames.name(index) : fmt::format("frame {}", index);
+}
+
+void check_source(const CameraFrameSource& frames) {
+  if (!frames.read) reject_argument("calibrate_camera: the frame source has no `read`");
+  for (std::size_t i = 0; i < frames.times.size(); ++i) {
+    if (!std::isfinite(frames.times[i]) || (i > 0 && frames.times[i] <= frames.times[i - 1])) {
+      reject_argument(
+          "calibrate_camera: frame {} time {} s is not finite or not after the "
+          "previous frame's",
+          i, frames.times[i]);
+    }
+  }
+  if (!frames.motion.empty() && frames.motion.size() != frames.times.size()) {
+    reject_argument("calibrate_camera: {} motion samples for {} frames", frames.motion.size(),
+                    frames.times.size());
+  }
+}
+
+std::optional<VehicleMotion> motion_at(const CameraFrameSource& frames, std::size_t index) {
+  return frames.motion.empty() ? std::nullopt : frames.motion[index];
+}
+
+// The parallel stage: gate, decode, check the size, estimate, turn into angles.
+void estimate_frame(const CameraFrameSource& frames, const core::CameraIntrinsics& intrinsics,
+                    const CameraCalibrationOptions& options, const FrameEstimator& estimator,
+                    std::size_t index, FrameRecord& record) {
+  if (motion_gate(motion_at(frames, index), options.filter)) {
+    record.gated = true;
+    return;
+  }
+  cv::Mat image;
+  try {
+    image = frames.read(index);
+  } catch (const InputError& error) {
+    if (!options.skip_bad_images) throw;
+    record.read_error = error.what();
+    return;
+  }
+  if (image.empty()) {
+    throw InputError(frame_name(frames, index), "the image is empty (not decodable?)");
+  }
+  if (image.cols != intrinsics.width || image.rows != intrinsics.height) {
+    throw InputError(frame_name(frames, index), 0, "image size",
+                     fmt::format("the image is {}x{} pixels; the intrinsics say {}x{}", image.cols,
+                                 image.rows, intrinsics.width, intrinsics.height));
+  }
+  record.estimate = estimator(image, intrinsics);
+  if (!record.estimate.usable()) return;
+  record.angles =
+      vehicle_from_camera_angles(record.estimate.road_vanishing_point_px,
+                                 record.estimate.horizon_line, intrinsics.camera_matrix());
+}
+
+// Every frame through the estimator (in parallel) and the filter (in order).
+std::vector<FrameRecord> run_frames(const CameraFrameSource& frames,
+                                    const core::CameraIntrinsics& intrinsics,
+                                    const CameraCalibrationOptions& options,
+                                    const FrameEstimator& estimator, TemporalFilter& filter,
+                                    std::vector<FrameVerdict>& verdicts) {
+  const std::size_t count = frames.times.size();
+  std::vector<FrameRecord> records(count);
+  verdicts.assign(count, FrameVerdict::kNoEstimate);
+  std::size_t next = 0;
+  std::exception_ptr first_error;
+  std::atomic<bool> stopping = false;
+  const std::size_t in_flight = 2 * std::max<std::size_t>(2, std::thread::hardware_concurrency());
+  // No exception may leave a filter (a cancelled pipeline leaks its tokens' work): the first error
+  // in frame order stops the reading and is rethrown once the pipeline has drained.
+  tbb::parallel_pipeline(
+      in_flight,
+      tbb::make_filter<void, std::size_t>(tbb::filter_mode::serial_in_order,
+                                          [&](tbb::flow_control& control) -> std::size_t {
+                                            if (next == count || stopping.load()) {
+                                              control.stop();
+                                              return 0;
+                                            }
+                                            return next++;
+                                          }) &
+          tbb::make_filter<std::size_t, std::size_t>(
+              tbb::filter_mode::parallel,
+              [&](std::size_t index) {
+                if (stopping.load()) return index;
+                try {
+                  estimate_frame(frames, intrinsics, options, estimator, index, records[index]);
+                } catch (...) {
+                  records[index].error = std::current_exception();
+                }
+                return index;
+              }) &
+          tbb::make_filter<std::size_t, void>(
+              tbb::filter_mode::serial_in_order, [&](std::size_t index) {
+                if (first_error) return;
+                FrameRecord& record = records[index];
+                if (record.error) {
+                  first_error = record.error;
+                  stopping = true;
+                  return;
+                }
+                verdicts[index] =
+                    filter.add(frames.times[index], record.angles, motion_at(frames, index));
+                if (options.progress) options.progress(index + 1, count);
+              }));
+  if (first_error) std::rethrow_exception(first_error);
+  return records;
+}
+
+void count_frames(const std::vector<FrameRecord>& records,
+                  const std::vector<FrameVerdict>& verdicts, CalibrationResult& result) {
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const FrameRecord& record = records[i];
+    if (record.read_error) {
+      ++result.rejections["unreadable_image"];
+    } else if (verdicts[i] == FrameVerdict::kSlow || verdicts[i] == FrameVerdict::kTurning ||
+               verdicts[i] == FrameVerdict::kAccelerating) {
+      ++result.rejections[to_string(verdicts[i])];
+    } else if (record.estimate.rejection) {
+      ++result.rejections[to_string(*record.estimate.rejection)];
+    } else if (!record.angles) {
+      ++result.rejections["degenerate_geometry"];
+    }
+  }
+}
+
+void write_series(const CameraFrameSource& frames, const std::vector<FrameRecord>& records,
+                  const TemporalFilter& filter, CalibrationResult& result) {
+  Series vp_u{"road_vanishing_point_u", "px", {}, {}};
+  Series vp_v{"road_vanishing_point_v", "px", {}, {}};
+  Series horizon{"horizon_angle", "rad", {}, {}};
+  Series roll{"frame_roll", "rad", {}, {}};
+  Series pitch{"frame_pitch", "rad", {}, {}};
+  Series yaw{"frame_yaw", "rad", {}, {}};
+  Series quality{"frame_quality", "", {}, {}};
+  Series in_window{"in_window", "", frames.times, std::vector<double>(frames.times.size(), 0.0)};
+  for (const FilterWindow& window : filter.windows()) {
+    for (std::size_t i = window.first_frame; i <= window.last_frame; ++i) in_window.value[i] = 1.0;
+  }
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const FrameRecord& record = records[i];
+    if (!record.angles) continue;
+    const double time = frames.times[i];
+    const auto push = [time](Series& series, double value) {
+      series.time.push_back(time);
+      series.value.push_back(value);
+    };
+    push(vp_u, record.estimate.road_vanishing_point_px.x());
+    push(vp_v, record.estimate.road_vanishing_point_px.y());
+    push(horizon, horizon_angle(record.estimate.horizon_line));
+    push(roll, record.angles->roll);
+    push(pitch, record.angles->pitch);
+    push(yaw, record.angles->yaw);
+    push(quality, record.estimate.quality);
+  }
+  for (Series* series : {&vp_u, &vp_v, &horizon, &roll, &pitch, &yaw, &quality, &in_window}) {
+    result.series.push_back(std::move(*series));
+  }
+}
+
+// Largest minus smallest window mean of each angle [rad].
+EulerAngles window_spread(const std::vector<FilterWindow>& windows) {
+  EulerAngles spread;
+  for (double EulerAngles::*angle : {&EulerAngles::roll, &EulerAngles::pitch, &EulerAngles::yaw}) {
+    const auto [low, high] = std::minmax_element(
+        windows.begin(), windows.end(), [angle](const FilterWindow& a, const FilterWindow& b) {
+          return a.mean.*angle < b.mean.*angle;
+        });
+    spread.*angle = high->mean.*angle - low->mean.*angle;
+  }
+  return spread;
+}
+
+std::optional<std::string> first_read_error(const std::vector<FrameRecord>& records) {
+  for (const FrameRecord& record : records) {
+    if (record.read_error) return record.read_error;
+  }
+  return std::nullopt;
+}
+
+CalibrationResult calibrate(const CameraFrameSource& frames,
+                            const core::CameraIntrinsics& intrinsics,
+                            const CameraCalibrationOptions& options) {
+  const FrameEstimator estimator =
+      options.estimator ? options.estimator : make_geometric_estimator(options.geometric);
+  TemporalFilter filter(options.filter);
+  std::vector<FrameVerdict> verdicts;
+  const std::vector<FrameRecord> records =
+      run_frames(frames, intrinsics, options, estimator, filter, verdicts);
+  const FilterEstimate estimate = filter.current();
+
+  CalibrationResult result;
+  result.sensor = kSensor;
+  result.method = options.estimator ? options.estimator_name : "geometric";
+  result.support["frames"] = static_cast<std::int64_t>(frames.times.size());
+  result.support["usable_frames"] = static_cast<std::int64_t>(filter.usable_frames());
+  result.support["longest_stretch"] = static_cast<std::int64_t>(filter.longest_stretch());
+  result.support["windows"] = static_cast<std::int64_t>(estimate.windows);
+  result.support["frames_in_windows"] = static_cast<std::int64_t>(estimate.frames_in_windows);
+  count_frames(records, verdicts, result);
+  if (options.keep_series) write_series(frames, records, filter, result);
+  const std::optional<std::string> read_error = first_read_error(records);
+
+  if (!estimate.ok) {
+    result.status = CalibrationStatus::kInsufficientData;
+    result.reason = estimate.reason;
+    if (read_error)
+      result.reason += fmt::format(" (unreadable images, the first: {})", *read_error);
+    return result;
+  }
+  result.status = CalibrationStatus::kOk;
+  result.roll = estimate.angles.roll;
+  result.pitch = estimate.angles.pitch;
+  result.yaw = estimate.angles.yaw;
+  result.roll_std = estimate.standard_error.roll;
+  result.pitch_std = estimate.standard_error.pitch;
+  result.yaw_std = estimate.standard_error.yaw;
+  const EulerAngles spread = window_spread(filter.windows());
+  result.diagnostics["window_spread_roll_deg"] = deg_from_rad(spread.roll);
+  result.diagnostics["window_spread_pitch_deg"] = deg_from_rad(spread.pitch);
+  result.diagnostics["window_spread_yaw_deg"] = deg_from_rad(spread.yaw);
+  const double widest = std::max({spread.roll, spread.pitch, spread.yaw});
+  if (widest > options.max_window_disagreement) {
+    return mark_unreliable(
+        std::move(result),
+        fmt::format("the {} steady windows disagree: their means spread by roll {:.3f}, pitch "
+                    "{:.3f}, yaw {:.3f} deg (at most {:.3f} deg)",
+                    estimate.windows, deg_from_rad(spread.roll), deg_from_rad(spread.pitch),
+                    deg_from_rad(spread.yaw), deg_from_rad(options.max_window_disagreement)));
+  }
+  if (read_error)
+    result.reason = fmt::format("unreadable images skipped, the first: {}", *read_error);
+  return result;
+}
+
+}  // namespace
+
+CalibrationResult calibrate_camera(const CameraFrameSource& frames,
+                                   const core::CameraIntrinsics& intrinsics,
+                                   const CameraCalibrationOptions& options) {
+  options.Check();
+  intrinsics.Check();
+  check_source(frames);
+  const auto started = std::chrono::steady_clock::now();
+  CalibrationResult result = calibrate(frames, intrinsics, options);
+  result.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return result;
+}
+
+}  // namespace x2car::camera

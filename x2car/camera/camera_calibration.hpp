@@ -1,0 +1,76 @@
+// Camera -> car: roll, pitch and yaw from the vanishing point of the road and the horizon, frame by
+// frame, kept where they are steady (DESIGN §2, paper §III-A; issue 14).
+//
+// One pass over the frames: they are decoded and estimated in parallel (a oneTBB pipeline; the
+// motion gate is applied before decoding, so gated frames cost nothing), and fed in time order to
+// the temporal filter (temporal_filter.hpp). Each frame's vanishing point and horizon become the
+// mounting's angles exactly (vanishing_rotation.hpp). The result is the filter's average over its
+// passing windows with their standard errors; too few steady frames is insufficient_data with the
+// filter's reason, windows that disagree with each other beyond max_window_disagreement is
+// unreliable.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "x2car/camera/frame_estimate.hpp"
+#include "x2car/camera/geometric_estimator.hpp"
+#include "x2car/camera/temporal_filter.hpp"
+#include "x2car/core/calibration_result.hpp"
+#include "x2car/core/camera_model.hpp"
+
+namespace cv {
+class Mat;
+}  // namespace cv
+
+namespace x2car::camera {
+
+struct CameraCalibrationOptions {
+  // The per-frame estimator; empty: the geometric one with `geometric`.
+  FrameEstimator estimator;
+  // The name the result's `method` reports for `estimator` ("geometric" when it is empty).
+  std::string estimator_name;
+  GeometricEstimatorOptions geometric;
+  // The paper's window and threshold, the motion gate, the averaging and the standard errors.
+  TemporalFilterOptions filter;
+  // The passing windows' means may differ by at most this much in any angle [rad] (largest minus
+  // smallest); beyond it the result is unreliable: a steady but wrong stretch (a long curve of
+  // constant radius, a road that leans one way) got through the filter.
+  double max_window_disagreement = 0.01;
+  // A frame whose `read` throws InputError (a truncated or corrupt image) is skipped and counted
+  // (rejections["unreadable_image"], the first message in `reason`). Off: the InputError ends the
+  // run. An image whose size is not the intrinsics' always ends it (the wrong intrinsics).
+  bool skip_bad_images = false;
+  bool keep_series = true;  // per-frame vanishing points, horizons, angles and window flags
+  // Called after each frame has passed the filter (in order, one thread at a time) with the frames
+  // done and the total; empty: not called. Must not throw.
+  std::function<void(std::size_t done, std::size_t total)> progress;
+
+  // Throws std::invalid_argument naming the offending field.
+  void Check() const;
+};
+
+// The frames of a drive: their times and how to decode each.
+struct CameraFrameSource {
+  std::vector<double> times;  // [s], strictly increasing
+  // Decodes frame `index` (8-bit grey or BGR). Called from several threads at once, each index
+  // once; throws InputError for an image it cannot decode.
+  std::function<cv::Mat(std::size_t index)> read;
+  // The frame's name in messages (its file); empty: "frame <index>".
+  std::function<std::string(std::size_t index)> name;
+  // The car's motion at each frame, when known (a GNSS/INS log); empty or one per frame.
+  std::vector<std::optional<VehicleMotion>> motion;
+};
+
+// Returns ok, insufficient_data (the filter's reason: "only 43 frames in stable stretches; need
+// 100") or unreliable; never NaN angles. InputError from `read` passes through unless
+// skip_bad_images, and an image of the wrong size is an InputError naming the frame and its size;
+// std::invalid_argument for invalid options or a source whose times or motion do not fit.
+CalibrationResult calibrate_camera(const CameraFrameSource& frames,
+                                   const core::CameraIntrinsics& intrinsics,
+                                   const CameraCalibrationOptions& options = {});
+
+}  // namespace x2car::camera

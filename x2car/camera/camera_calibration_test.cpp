@@ -1,0 +1,191 @@
+#include "x2car/camera/camera_calibration.hpp"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <opencv2/core.hpp>
+#include <stdexcept>
+
+#include "x2car/camera/camera_test_support.hpp"
+#include "x2car/camera/vanishing_rotation.hpp"
+#include "x2car/core/error.hpp"
+#include "x2car/core/test_matchers.hpp"
+
+namespace x2car::camera {
+namespace {
+
+using x2car::testing::AngleNearDeg;
+
+const EulerAngles kMounting{rad_from_deg(1.5), rad_from_deg(3.0), rad_from_deg(-2.0)};
+
+// A short drive down a straight street at 10 Hz: the driver weaves in the lane (the road's heading
+// against the car swings by +-0.05 deg), `turn_rate` [rad/s] turns the road's direction over time.
+CameraFrameSource street_drive(std::size_t count, double turn_rate = 0.0) {
+  CameraFrameSource frames;
+  for (std::size_t i = 0; i < count; ++i)
+    frames.times.push_back(100.0 + 0.1 * static_cast<double>(i));
+  frames.read = [turn_rate](std::size_t index) {
+    const double time = 0.1 * static_cast<double>(index);
+    testing::StreetScene scene;
+    scene.vehicle_from_camera = kMounting;
+    scene.road_heading = rad_from_deg(0.05) * std::sin(0.7 * time) + turn_rate * time;
+    scene.noise_seed = index + 1;
+    return testing::draw_street(scene, core::camera_preset("kitti"));
+  };
+  return frames;
+}
+
+CameraCalibrationOptions short_windows() {
+  CameraCalibrationOptions options;
+  options.filter.window_frames = 12;  // the paper's 100 at 10 Hz is 10 s; the tests drive ~4 s
+  return options;
+}
+
+TEST(CalibrateCamera, RecoversTheMountingOfAStreetDrive) {
+  const CameraFrameSource frames = street_drive(36);
+  std::atomic<std::size_t> progress_calls = 0;
+  CameraCalibrationOptions options = short_windows();
+  options.progress = [&](std::size_t, std::size_t total) {
+    EXPECT_EQ(total, 36U);
+    ++progress_calls;
+  };
+  const CalibrationResult result = calibrate_camera(frames, core::camera_preset("kitti"), options);
+  ASSERT_TRUE(result.ok()) << result.reason;
+  EXPECT_EQ(result.sensor, "camera");
+  EXPECT_EQ(result.method, "geometric");
+  EXPECT_THAT(*result.roll, AngleNearDeg(kMounting.roll, 0.1));
+  EXPECT_THAT(*result.pitch, AngleNearDeg(kMounting.pitch, 0.1));
+  EXPECT_THAT(*result.yaw, AngleNearDeg(kMounting.yaw, 0.1));
+  EXPECT_EQ(result.support.at("windows"), 3);
+  EXPECT_EQ(result.support.at("frames_in_windows"), 36);
+  EXPECT_GE(*result.pitch_std, TemporalFilterOptions{}.standard_error_floor.pitch);
+  EXPECT_EQ(progress_calls.load(), 36U);
+  // Per-frame series for plots: every frame estimated, all in windows.
+  ASSERT_FALSE(result.series.empty());
+  for (const Series& series : result.series) {
+    EXPECT_EQ(series.value.size(), 36U) << series.name;
+    EXPECT_EQ(series.time.size(), 36U) << series.name;
+  }
+}
+
+// A road that keeps turning: the vanishing point wanders and no window is steady. Insufficient
+// data with a reason, never a number.
+TEST(CalibrateCamera, ACurvingRoadGivesNoNumber) {
+  const CameraFrameSource frames = street_drive(26, rad_from_deg(3.0));
+  const CalibrationResult result =
+      calibrate_camera(frames, core::camera_preset("kitti"), short_windows());
+  EXPECT_EQ(result.status, CalibrationStatus::kInsufficientData);
+  EXPECT_FALSE(result.roll.has_value());
+  EXPECT_NE(result.reason.find("no window of 12 frames was steady"), std::string::npos)
+      << result.reason;
+}
+
+// With the car's motion known, turning and slow frames are never decoded and are counted.
+TEST(CalibrateCamera, GatesByTheCarsMotionBeforeDecoding) {
+  CameraFrameSource frames = street_drive(30);
+  std::atomic<int> decoded = 0;
+  const auto draw = frames.read;
+  frames.read = [&decoded, draw](std::size_t index) {
+    ++decoded;
+    return draw(index);
+  };
+  for (std::size_t i = 0; i < 30; ++i) {
+    frames.motion.push_back(i < 10 ? VehicleMotion{1.0, 0.0} : VehicleMotion{10.0, 0.3});
+  }
+  const CalibrationResult result =
+      calibrate_camera(frames, core::camera_preset("kitti"), short_windows());
+  EXPECT_EQ(result.status, CalibrationStatus::kInsufficientData);
+  EXPECT_EQ(result.reason, "only 0 frames in stable stretches; need 12");
+  EXPECT_EQ(result.rejections.at("slow"), 10);
+  EXPECT_EQ(result.rejections.at("turning"), 20);
+  EXPECT_EQ(decoded.load(), 0);
+}
+
+TEST(CalibrateCamera, AnImageOfTheWrongSizeNamesTheFrame) {
+  CameraFrameSource frames = street_drive(5);
+  frames.read = [](std::size_t) { return cv::Mat(100, 200, CV_8UC1, cv::Scalar(0)); };
+  frames.name = [](std::size_t index) { return fmt::format("images/{:010d}.png", index); };
+  try {
+    calibrate_camera(frames, core::camera_preset("kitti"), short_windows());
+    FAIL() << "no InputError";
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.file(), "images/0000000000.png");
+    EXPECT_EQ(error.field(), "image size");
+    EXPECT_NE(std::string(error.what()).find("200x100"), std::string::npos) << error.what();
+  }
+}
+
+TEST(CalibrateCamera, UnreadableImagesEndTheRunOrAreCounted) {
+  CameraFrameSource frames = street_drive(3);
+  frames.read = [](std::size_t index) -> cv::Mat {
+    throw InputError(fmt::format("images/{}.png", index), "not a PNG");
+  };
+  EXPECT_THROW(calibrate_camera(frames, core::camera_preset("kitti"), short_windows()), InputError);
+  CameraCalibrationOptions options = short_windows();
+  options.skip_bad_images = true;
+  const CalibrationResult result = calibrate_camera(frames, core::camera_preset("kitti"), options);
+  EXPECT_EQ(result.status, CalibrationStatus::kInsufficientData);
+  EXPECT_EQ(result.rejections.at("unreadable_image"), 3);
+  EXPECT_NE(result.reason.find("images/0.png"), std::string::npos) << result.reason;
+}
+
+TEST(CalibrateCamera, BlankFramesAreCountedByReason) {
+  CameraFrameSource frames = street_drive(4);
+  frames.read = [](std::size_t) { return cv::Mat(375, 1242, CV_8UC1, cv::Scalar(90)); };
+  const CalibrationResult result =
+      calibrate_camera(frames, core::camera_preset("kitti"), short_windows());
+  EXPECT_EQ(result.status, CalibrationStatus::kInsufficientData);
+  EXPECT_EQ(result.rejections.at("too_few_lines"), 4);
+}
+
+TEST(CalibrateCamera, RejectsABadSourceOrOptions) {
+  CameraFrameSource frames = street_drive(3);
+  frames.times[2] = frames.times[1];
+  EXPECT_THROW(calibrate_camera(frames, core::camera_preset("kitti")), std::invalid_argument);
+  frames = street_drive(3);
+  frames.motion.resize(2);
+  EXPECT_THROW(calibrate_camera(frames, core::camera_preset("kitti")), std::invalid_argument);
+  CameraCalibrationOptions options;
+  options.max_window_disagreement = -1.0;
+  EXPECT_THROW(calibrate_camera(street_drive(3), core::camera_preset("kitti"), options),
+               std::invalid_argument);
+}
+
+// Any estimator plugs in: this one reads the frame's geometry off the image's first pixel (the
+// frame index) and reports the exact VP and HL of mounting A for the first window and of B, 1 deg
+// of yaw away, for the second. Both windows are steady but disagree: unreliable, angles kept.
+TEST(CalibrateCamera, WindowsThatDisagreeAreUnreliable) {
+  const core::CameraIntrinsics intrinsics = core::camera_preset("kitti");
+  CameraFrameSource frames;
+  for (int i = 0; i < 24; ++i) frames.times.push_back(0.1 * i);
+  frames.read = [&intrinsics](std::size_t index) {
+    return cv::Mat(intrinsics.height, intrinsics.width, CV_8UC1,
+                   cv::Scalar(static_cast<double>(index)));
+  };
+  CameraCalibrationOptions options = short_windows();
+  options.estimator_name = "exact";
+  options.estimator = [](const cv::Mat& image, const core::CameraIntrinsics& camera) {
+    const bool second = image.at<std::uint8_t>(0, 0) >= 12;
+    const EulerAngles mounting{kMounting.roll, kMounting.pitch,
+                               kMounting.yaw + (second ? rad_from_deg(1.0) : 0.0)};
+    const std::optional<VanishingGeometry> geometry =
+        vanishing_geometry_from_rotation(rotation_from_euler(mounting), camera.camera_matrix());
+    FrameEstimate estimate;
+    estimate.road_vanishing_point_px = geometry->vanishing_point_px;
+    estimate.horizon_line = geometry->horizon_line;
+    return estimate;
+  };
+  const CalibrationResult result = calibrate_camera(frames, intrinsics, options);
+  EXPECT_EQ(result.status, CalibrationStatus::kUnreliable);
+  EXPECT_EQ(result.method, "exact");
+  EXPECT_NE(result.reason.find("disagree"), std::string::npos) << result.reason;
+  ASSERT_TRUE(result.yaw.has_value());
+  EXPECT_NEAR(*result.yaw, kMounting.yaw + rad_from_deg(0.5), 1e-9);  // equal weights
+  EXPECT_NEAR(*result.pitch, kMounting.pitch, 1e-9);
+  EXPECT_NEAR(result.diagnostics.at("window_spread_yaw_deg"), 1.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace x2car::camera

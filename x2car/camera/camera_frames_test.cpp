@@ -1,0 +1,68 @@
+#include "x2car/camera/camera_frames.hpp"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+
+#include "x2car/camera/camera_test_support.hpp"
+#include "x2car/core/test_matchers.hpp"
+#include "x2car/io/text_lines.hpp"
+
+namespace x2car::camera {
+namespace {
+
+namespace fs = std::filesystem;
+using x2car::testing::AngleNearDeg;
+using x2car::testing::expect_input_error;
+
+fs::path fresh_folder(const std::string& name) {
+  const fs::path folder = fs::path(::testing::TempDir()) / ("camera_frames_" + name);
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  return folder;
+}
+
+// A drive written as the simulator writes it (camera/images/NNNNNNNNNN.png + timestamps.txt),
+// read back and calibrated: the whole path from files to angles.
+TEST(CameraFrames, CalibratesADriveFromPngFiles) {
+  const fs::path drive = fresh_folder("drive");
+  fs::create_directories(drive / "camera/images");
+  const core::CameraIntrinsics intrinsics = core::camera_preset("kitti");
+  const EulerAngles mounting{rad_from_deg(-1.0), rad_from_deg(2.0), rad_from_deg(3.0)};
+  std::string timestamps;
+  for (int i = 0; i < 24; ++i) {
+    testing::StreetScene scene;
+    scene.vehicle_from_camera = mounting;
+    scene.noise_seed = static_cast<std::uint64_t>(i + 1);
+    cv::imwrite((drive / fmt::format("camera/images/{:010d}.png", i)).string(),
+                testing::draw_street(scene, intrinsics));
+    timestamps += fmt::format("2026-01-02 10:00:{:02d}.{:01d}00000000\n", i / 10, i % 10);
+  }
+  io::write_text_file(drive / "camera/timestamps.txt", timestamps);
+  const io::ImageFolder folder = io::list_images(drive);
+  ASSERT_EQ(folder.images.size(), 24U);
+  CameraCalibrationOptions options;
+  options.filter.window_frames = 12;
+  const CalibrationResult result =
+      calibrate_camera(camera_frames_from(folder), intrinsics, options);
+  ASSERT_TRUE(result.ok()) << result.reason;
+  EXPECT_THAT(*result.roll, AngleNearDeg(mounting.roll, 0.1));
+  EXPECT_THAT(*result.pitch, AngleNearDeg(mounting.pitch, 0.1));
+  EXPECT_THAT(*result.yaw, AngleNearDeg(mounting.yaw, 0.1));
+}
+
+TEST(CameraFrames, ABrokenImageNamesItsFile) {
+  const fs::path folder = fresh_folder("broken");
+  io::write_text_file(folder / "1.500000.png", "\x89PNG truncated");
+  expect_input_error([&] { read_grey_image(folder / "1.500000.png"); },
+                     (folder / "1.500000.png").string(), 0);
+  const io::ImageFolder images = io::list_images(folder);
+  const CameraFrameSource frames = camera_frames_from(images);
+  expect_input_error([&] { frames.read(0); }, (folder / "1.500000.png").string(), 0);
+  EXPECT_EQ(frames.name(0), (folder / "1.500000.png").string());
+}
+
+}  // namespace
+}  // namespace x2car::camera

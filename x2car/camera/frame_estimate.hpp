@@ -1,0 +1,90 @@
+// What a per-frame estimator reports (DESIGN §2, issue 14 item 2): the vanishing point of the road
+// direction and the horizon line of one image, or why the image gave neither. The geometric
+// estimator (geometric_estimator.hpp), the motion one and the paper's network plug in behind the
+// same FrameEstimator; the temporal filter and the calibrator see only FrameEstimate.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "x2car/core/camera_model.hpp"
+#include "x2car/core/enum_names.hpp"
+
+namespace cv {
+class Mat;
+}  // namespace cv
+
+namespace x2car::camera {
+
+// Why a frame gives no estimate; each is counted in the result's rejections under its name.
+enum class FrameRejection {
+  kTooFewLines,      // "too_few_lines": fewer usable line segments than the estimator needs
+  kNoConsensus,      // "no_consensus": no vanishing point that enough segments agree on
+  kOutsideCone,      // "outside_cone": the best vanishing point is outside the plausible cone
+                     //   around the optical axis (the road is not ahead: a turn, a wall)
+  kNoHorizon,        // "no_horizon": no vertical vanishing point and no second horizontal one
+  kUnreadableImage,  // "unreadable_image": the image could not be decoded
+  kWrongImageSize,   // "wrong_image_size": the image's size differs from the intrinsics'
+};
+
+constexpr std::array<EnumName<FrameRejection>, 6> kFrameRejectionNames{{
+    {FrameRejection::kTooFewLines, "too_few_lines"},
+    {FrameRejection::kNoConsensus, "no_consensus"},
+    {FrameRejection::kOutsideCone, "outside_cone"},
+    {FrameRejection::kNoHorizon, "no_horizon"},
+    {FrameRejection::kUnreadableImage, "unreadable_image"},
+    {FrameRejection::kWrongImageSize, "wrong_image_size"},
+}};
+
+inline const char* to_string(FrameRejection rejection) {
+  return enum_to_string(kFrameRejectionNames, rejection);
+}
+
+// Where the horizon came from.
+enum class HorizonSource {
+  kNone,
+  kVerticalVanishingPoint,  // the up direction is the ray to the vertical vanishing point
+  kSecondHorizontal,        // the line through the road's and a second horizontal vanishing point
+};
+
+struct FrameEstimate {
+  // Set when the frame is unusable; the geometry below is then meaningless.
+  std::optional<FrameRejection> rejection;
+
+  // Vanishing point of the road's direction [undistorted px] (core::undistort_pixel): on a
+  // straight road driven straight, the car's x axis.
+  Eigen::Vector2d road_vanishing_point_px = Eigen::Vector2d::Zero();
+  // Horizon line a u + b v + c = 0 in undistorted pixels, a^2 + b^2 = 1, b > 0.
+  Eigen::Vector3d horizon_line = Eigen::Vector3d(0.0, 1.0, 0.0);
+  HorizonSource horizon_source = HorizonSource::kNone;
+
+  // How much of the image's line evidence agrees, in [0, 1]: the share of the segments' length
+  // that supports the two vanishing points used. A heuristic for plots and gating, not a variance.
+  double quality = 0.0;
+  // RMS angle between the road's inlier segments and their lines through the vanishing point [rad].
+  double road_residual_rms = 0.0;
+  int segments = 0;         // usable segments after the length filter
+  int road_inliers = 0;     // segments through the road's vanishing point
+  int horizon_inliers = 0;  // segments through the vertical (or second) vanishing point
+
+  bool usable() const { return !rejection.has_value(); }
+};
+
+inline FrameEstimate rejected_frame(FrameRejection rejection) {
+  FrameEstimate estimate;
+  estimate.rejection = rejection;
+  return estimate;
+}
+
+// A per-frame estimator: the image (8-bit grey or BGR, as decoded) and the camera's intrinsics in,
+// the frame's estimate out. Called concurrently from several threads, so it must not share
+// mutable state between calls; it may throw only for a bug, never for a bad image (that is a
+// rejection).
+using FrameEstimator =
+    std::function<FrameEstimate(const cv::Mat& image, const core::CameraIntrinsics& intrinsics)>;
+
+}  // namespace x2car::camera

@@ -1,0 +1,97 @@
+#include "x2car/camera/ins_motion.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "x2car/core/options_check.hpp"
+#include "x2car/core/rotation.hpp"
+
+namespace x2car::camera {
+
+void InsMotionOptions::Check() const {
+  const OptionsCheck check("InsMotionOptions");
+  check.finite("ins_to_frame_offset_s", ins_to_frame_offset_s);
+  check.positive("max_record_gap_s", max_record_gap_s);
+  check.positive("rate_span_s", rate_span_s);
+}
+
+namespace {
+
+bool has_velocities(std::span<const io::InsRecord> records) {
+  return std::ranges::any_of(records, [](const io::InsRecord& record) {
+    return record.velocity_enu.head<2>().squaredNorm() > 0.0;
+  });
+}
+
+// Horizontal speed at record i [m/s]: its velocity, or its positions' central difference.
+double speed_at(std::span<const io::InsRecord> records, std::size_t i, bool velocities) {
+  if (velocities) return records[i].velocity_enu.head<2>().norm();
+  const std::size_t before = i == 0 ? 0 : i - 1;
+  const std::size_t after = std::min(records.size() - 1, i + 1);
+  if (before == after) return 0.0;
+  return (records[after].position_enu - records[before].position_enu).head<2>().norm() /
+         (records[after].time - records[before].time);
+}
+
+// The horizontal speed at `time` on the log's clock, interpolated; nullopt outside the log or in a
+// gap.
+std::optional<double> speed_at_time(std::span<const io::InsRecord> records, double time,
+                                    bool velocities, const InsMotionOptions& options) {
+  const auto after = std::ranges::upper_bound(records, time, {}, &io::InsRecord::time);
+  if (after == records.begin() || after == records.end()) return std::nullopt;
+  const std::size_t i = static_cast<std::size_t>(after - records.begin()) - 1;
+  const double span = records[i + 1].time - records[i].time;
+  if (!(span > 0.0) || span > options.max_record_gap_s) return std::nullopt;
+  const double share = (time - records[i].time) / span;
+  return (1.0 - share) * speed_at(records, i, velocities) +
+         share * speed_at(records, i + 1, velocities);
+}
+
+}  // namespace
+
+std::vector<std::optional<VehicleMotion>> motion_from_ins(std::span<const double> frame_times,
+                                                          std::span<const io::InsRecord> records,
+                                                          const InsMotionOptions& options) {
+  options.Check();
+  std::vector<std::optional<VehicleMotion>> motion(frame_times.size());
+  if (records.size() < 2) return motion;
+  const bool velocities = has_velocities(records);
+  for (std::size_t f = 0; f < frame_times.size(); ++f) {
+    const double time = frame_times[f] - options.ins_to_frame_offset_s;  // on the log's clock
+    const auto after = std::ranges::upper_bound(records, time, {}, &io::InsRecord::time);
+    if (after == records.begin() || after == records.end()) continue;
+    const std::size_t i = static_cast<std::size_t>(after - records.begin()) - 1;
+    const double span = records[i + 1].time - records[i].time;
+    if (!(span > 0.0) || span > options.max_record_gap_s) continue;
+    const double share = (time - records[i].time) / span;
+    const double half = 0.5 * options.rate_span_s;
+    VehicleMotion at;
+    at.speed_mps = (1.0 - share) * speed_at(records, i, velocities) +
+                   share * speed_at(records, i + 1, velocities);
+    // The yaw's rate over the same span: between two records 10 ms apart the heading's noise
+    // (0.01-0.05 deg) would read as degrees per second.
+    {
+      const auto first = std::ranges::lower_bound(records, time - half, {}, &io::InsRecord::time);
+      auto last = std::ranges::upper_bound(records, time + half, {}, &io::InsRecord::time);
+      if (last != records.begin()) --last;
+      const double apart = last->time - first->time;
+      at.yaw_rate =
+          apart > 0.0
+              ? angle_difference(last->attitude.yaw, first->attitude.yaw) / apart
+              : angle_difference(records[i + 1].attitude.yaw, records[i].attitude.yaw) / span;
+    }
+    // The acceleration over rate_span_s around the frame (where the log covers it): a
+    // difference over one record's interval would be mostly the speed's noise.
+    const std::optional<double> speed_before =
+        speed_at_time(records, time - half, velocities, options);
+    const std::optional<double> speed_after =
+        speed_at_time(records, time + half, velocities, options);
+    if (speed_before && speed_after) {
+      at.acceleration_mps2 = (*speed_after - *speed_before) / options.rate_span_s;
+    }
+    motion[f] = at;
+  }
+  return motion;
+}
+
+}  // namespace x2car::camera

@@ -1,0 +1,83 @@
+#include "x2car/camera/ins_motion.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace x2car::camera {
+namespace {
+
+// 20 s at 100 Hz, 10 m/s; the car turns left at 0.2 rad/s from 5 s to 10 s, crossing the +-pi seam.
+std::vector<io::InsRecord> drive(bool with_velocity) {
+  std::vector<io::InsRecord> records;
+  double yaw = 3.0;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  for (int i = 0; i <= 2000; ++i) {
+    const double time = 0.01 * i;
+    io::InsRecord record;
+    record.time = time;
+    record.attitude.yaw = wrap_angle(yaw);
+    const Eigen::Vector3d velocity(10.0 * std::cos(yaw), 10.0 * std::sin(yaw), 0.0);
+    if (with_velocity) record.velocity_enu = velocity;
+    record.position_enu = position;
+    records.push_back(record);
+    position += 0.01 * velocity;
+    if (time >= 5.0 && time < 10.0) yaw += 0.2 * 0.01;
+  }
+  return records;
+}
+
+TEST(InsMotion, SpeedAndYawRateAtTheFrames) {
+  for (const bool with_velocity : {true, false}) {
+    const std::vector<io::InsRecord> records = drive(with_velocity);
+    const std::vector<double> frames = {100.0 + 2.005, 100.0 + 7.005, 100.0 + 15.0, 100.0 + 25.0,
+                                        99.0};
+    const std::vector<std::optional<VehicleMotion>> motion =
+        motion_from_ins(frames, records, {.ins_to_frame_offset_s = 100.0});
+    ASSERT_EQ(motion.size(), 5U);
+    ASSERT_TRUE(motion[0] && motion[1] && motion[2]);
+    EXPECT_NEAR(motion[0]->speed_mps, 10.0, 1e-3);
+    EXPECT_NEAR(motion[0]->yaw_rate, 0.0, 1e-9);
+    EXPECT_NEAR(motion[1]->speed_mps, 10.0, 1e-3);
+    EXPECT_NEAR(motion[1]->yaw_rate, 0.2, 1e-6);  // across the seam too
+    EXPECT_NEAR(motion[2]->yaw_rate, 0.0, 1e-9);
+    EXPECT_FALSE(motion[3]);  // after the log
+    EXPECT_FALSE(motion[4]);  // before it
+  }
+}
+
+TEST(InsMotion, GapsGiveNoMotion) {
+  std::vector<io::InsRecord> records = drive(true);
+  records.erase(records.begin() + 100, records.begin() + 400);  // 1 s to 4 s missing
+  const std::vector<std::optional<VehicleMotion>> motion =
+      motion_from_ins(std::vector<double>{2.0, 0.5}, records);
+  EXPECT_FALSE(motion[0]);
+  EXPECT_TRUE(motion[1]);
+  EXPECT_THROW(motion_from_ins(std::vector<double>{1.0}, records, {.max_record_gap_s = 0.0}),
+               std::invalid_argument);
+}
+
+// The heading's noise between records 10 ms apart is not a turn, and a speed ramp is an
+// acceleration: both are read over rate_span_s.
+TEST(InsMotion, YawRateAndAccelerationOverTheSpanNotOneRecord) {
+  std::vector<io::InsRecord> records;
+  for (int i = 0; i <= 1000; ++i) {
+    io::InsRecord record;
+    record.time = 0.01 * i;
+    const double speed = record.time < 5.0 ? 10.0 : 10.0 + 2.0 * (record.time - 5.0);
+    record.velocity_enu = Eigen::Vector3d(speed, 0.0, 0.0);
+    // +-0.05 deg of heading noise, alternating: 10 deg/s between neighbouring records.
+    record.attitude.yaw = (i % 2 == 0 ? 1.0 : -1.0) * rad_from_deg(0.05);
+    records.push_back(record);
+  }
+  const std::vector<std::optional<VehicleMotion>> motion =
+      motion_from_ins(std::vector<double>{2.005, 7.005}, records);
+  ASSERT_TRUE(motion[0] && motion[1]);
+  EXPECT_LT(std::abs(motion[0]->yaw_rate), rad_from_deg(0.25));
+  EXPECT_NEAR(motion[0]->acceleration_mps2, 0.0, 1e-9);
+  EXPECT_NEAR(motion[1]->acceleration_mps2, 2.0, 1e-6);
+}
+
+}  // namespace
+}  // namespace x2car::camera

@@ -1,0 +1,200 @@
+#include "x2car/camera/temporal_filter.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+#include "x2car/core/enum_names.hpp"
+#include "x2car/core/options_check.hpp"
+#include "x2car/core/standard_error.hpp"
+
+namespace x2car::camera {
+
+void TemporalFilterOptions::Check() const {
+  const OptionsCheck check("TemporalFilterOptions");
+  check.at_least("window_frames", window_frames, 2);
+  check.positive("max_window_std", max_window_std);
+  check.positive("max_gap_s", max_gap_s);
+  check.non_negative("min_speed_mps", min_speed_mps);
+  check.positive("max_yaw_rate", max_yaw_rate);
+  check.positive("max_acceleration_mps2", max_acceleration_mps2);
+  check.non_negative("weight_floor", weight_floor);
+  check.positive("block_s", block_s);
+  check.non_negative("standard_error_floor.roll", standard_error_floor.roll);
+  check.non_negative("standard_error_floor.pitch", standard_error_floor.pitch);
+  check.non_negative("standard_error_floor.yaw", standard_error_floor.yaw);
+}
+
+namespace {
+
+constexpr std::array<EnumName<FrameVerdict>, 6> kFrameVerdictNames{{
+    {FrameVerdict::kBuffered, "buffered"},
+    {FrameVerdict::kWindowPassed, "window_passed"},
+    {FrameVerdict::kNoEstimate, "no_estimate"},
+    {FrameVerdict::kSlow, "slow"},
+    {FrameVerdict::kTurning, "turning"},
+    {FrameVerdict::kAccelerating, "accelerating"},
+}};
+
+double EulerAngles::*const kAngles[] = {&EulerAngles::roll, &EulerAngles::pitch, &EulerAngles::yaw};
+
+double largest(const EulerAngles& angles) {
+  return std::max({angles.roll, angles.pitch, angles.yaw});
+}
+
+}  // namespace
+
+const char* to_string(FrameVerdict verdict) { return enum_to_string(kFrameVerdictNames, verdict); }
+
+std::optional<FrameVerdict> motion_gate(const std::optional<VehicleMotion>& motion,
+                                        const TemporalFilterOptions& options) {
+  if (!motion) return std::nullopt;
+  if (!(motion->speed_mps >= options.min_speed_mps)) return FrameVerdict::kSlow;
+  if (!(std::abs(motion->yaw_rate) <= options.max_yaw_rate)) return FrameVerdict::kTurning;
+  if (!(std::abs(motion->acceleration_mps2) <= options.max_acceleration_mps2)) {
+    return FrameVerdict::kAccelerating;
+  }
+  return std::nullopt;
+}
+
+TemporalFilter::TemporalFilter(TemporalFilterOptions options) : options_(std::move(options)) {
+  options_.Check();
+  window_.reserve(static_cast<std::size_t>(options_.window_frames));
+}
+
+void TemporalFilter::end_stretch() {
+  window_.clear();
+  stretch_ = 0;
+}
+
+// Mean and std (n - 1) of each angle over the full window; differences are taken from the first
+// frame's angles on the circle, so the seam at +-pi cannot split a window.
+bool TemporalFilter::window_passes(EulerAngles& mean, EulerAngles& std) const {
+  const double n = static_cast<double>(window_.size());
+  for (double EulerAngles::*angle : kAngles) {
+    const double reference = window_.front().angles.*angle;
+    double sum = 0.0;
+    double sum_squares = 0.0;
+    for (const Buffered& frame : window_) {
+      const double offset = angle_difference(frame.angles.*angle, reference);
+      sum += offset;
+      sum_squares += offset * offset;
+    }
+    const double offset_mean = sum / n;
+    mean.*angle = wrap_angle(reference + offset_mean);
+    std.*angle =
+        std::sqrt(std::max(0.0, (sum_squares - n * offset_mean * offset_mean) / (n - 1.0)));
+  }
+  return largest(std) < options_.max_window_std;
+}
+
+FrameVerdict TemporalFilter::add(double time_s, const std::optional<EulerAngles>& angles,
+                                 const std::optional<VehicleMotion>& motion) {
+  if (!std::isfinite(time_s) || (last_time_ && time_s <= *last_time_)) {
+    reject_argument(
+        "TemporalFilter::add: frame time {} s is not finite or not after the "
+        "previous frame's",
+        time_s);
+  }
+  last_time_ = time_s;
+  const std::size_t frame = frames_++;
+  std::optional<FrameVerdict> rejected = motion_gate(motion, options_);
+  if (!rejected && (!angles || !std::isfinite(angles->roll) || !std::isfinite(angles->pitch) ||
+                    !std::isfinite(angles->yaw))) {
+    rejected = FrameVerdict::kNoEstimate;
+  }
+  if (rejected) {
+    end_stretch();
+    return *rejected;
+  }
+  const FrameVerdict verdict = FrameVerdict::kBuffered;
+  if (last_usable_time_ && time_s - *last_usable_time_ > options_.max_gap_s) end_stretch();
+  last_usable_time_ = time_s;
+  ++usable_frames_;
+  longest_stretch_ = std::max(longest_stretch_, ++stretch_);
+  if (window_.size() == static_cast<std::size_t>(options_.window_frames)) {
+    window_.erase(window_.begin());
+  }
+  window_.push_back({frame, time_s, *angles});
+  if (window_.size() < static_cast<std::size_t>(options_.window_frames)) return verdict;
+
+  FilterWindow passed;
+  if (!window_passes(passed.mean, passed.std)) {
+    if (!steadiest_failed_ || largest(passed.std) < largest(*steadiest_failed_)) {
+      steadiest_failed_ = passed.std;
+    }
+    return verdict;
+  }
+  passed.first_frame = window_.front().frame;
+  passed.last_frame = window_.back().frame;
+  passed.start_time = window_.front().time;
+  passed.end_time = window_.back().time;
+  windows_.push_back(passed);
+  window_.clear();  // the next window starts after this one: windows share no frames
+  return FrameVerdict::kWindowPassed;
+}
+
+FilterEstimate TemporalFilter::current() const {
+  FilterEstimate estimate;
+  estimate.windows = windows_.size();
+  const auto need = static_cast<std::size_t>(options_.window_frames);
+  if (windows_.empty()) {
+    if (longest_stretch_ < need) {
+      estimate.reason =
+          usable_frames_ < need
+              ? fmt::format("only {} frames in stable stretches; need {}", usable_frames_, need)
+              : fmt::format(
+                    "only {} frames in stable stretches, at most {} in a row; need {} in "
+                    "a row",
+                    usable_frames_, longest_stretch_, need);
+    } else {
+      const EulerAngles std = steadiest_failed_.value_or(EulerAngles{});
+      estimate.reason = fmt::format(
+          "no window of {} frames was steady: the steadiest had std roll {:.3f}, pitch {:.3f}, "
+          "yaw {:.3f} deg; need below {:.3f} deg",
+          need, deg_from_rad(std.roll), deg_from_rad(std.pitch), deg_from_rad(std.yaw),
+          deg_from_rad(options_.max_window_std));
+    }
+    return estimate;
+  }
+  estimate.ok = true;
+  std::vector<double> times;
+  std::vector<double> values;
+  times.reserve(windows_.size());
+  values.reserve(windows_.size());
+  for (const FilterWindow& window : windows_) {
+    estimate.frames_in_windows += window.last_frame - window.first_frame + 1;
+    times.push_back(0.5 * (window.start_time + window.end_time));
+  }
+  for (double EulerAngles::*angle : kAngles) {
+    // The weighted mean, as offsets from the first window's on the circle.
+    const double reference = windows_.front().mean.*angle;
+    double weighted = 0.0;
+    double weight_sum = 0.0;
+    values.clear();
+    for (const FilterWindow& window : windows_) {
+      const double spread = window.std.*angle;
+      const double weight =
+          1.0 / (spread * spread + options_.weight_floor * options_.weight_floor + 1e-30);
+      const double offset = angle_difference(window.mean.*angle, reference);
+      weighted += weight * offset;
+      weight_sum += weight;
+      values.push_back(offset);
+    }
+    estimate.angles.*angle = wrap_angle(reference + weighted / weight_sum);
+    const double floor = options_.standard_error_floor.*angle;
+    estimate.standard_error.*angle =
+        windows_.size() >= 2
+            ? series_standard_error(times, values, MovingBlockOptions{.block_s = options_.block_s},
+                                    floor)
+                  .combined
+            : std::hypot(windows_.front().std.*angle, floor);
+  }
+  return estimate;
+}
+
+}  // namespace x2car::camera

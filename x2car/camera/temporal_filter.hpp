@@ -1,0 +1,154 @@
+// The camera's temporal filter (paper §III-A "Rotation Derivation" and §IV-A "Calibration
+// result"; DESIGN §2, issue 14 item 4): per-frame angles are trusted only in stable stretches.
+//
+// The paper "continuously calculate[s] the standard deviation (Std) of a fixed number of VPs and
+// angles. If the Std falls below a threshold, we consider as the car is driving on a straight road
+// and the road is flat" (n = 100 frames, e = 0.005 rad, §IV-A) and outputs the average rotation
+// (eq:camera_R3 - eq:camera_roll). Here:
+//   - a stretch is a run of usable frames (the estimator gave angles; the car, when its motion is
+//     known, fast enough and not turning) with no gap longer than max_gap_s; a gated or unusable
+//     frame, or a gap, ends it;
+//   - a window is the last window_frames frames of a stretch; it passes when the std of each of
+//     roll, pitch and yaw over it is below max_window_std. A passing window is recorded and the
+//     next one starts after it, so windows never share frames (the paper slides its window; the
+//     disjoint windows here count each frame once and make the spread between windows an honest
+//     measure of their error);
+//   - the estimate is the average of the passing windows' means, each weighted by
+//     1 / (std^2 + weight_floor^2), its spread;
+//   - its standard error comes from the spread between windows (core/standard_error.hpp: moving
+//     blocks of block_s over the windows' times, the Student-t factor of their count), never below
+//     the floor: biases no spread shows (the road's camber, the drive's mean heading in its lane,
+//     the load's pitch). With one window, its frames' std stands in for the spread.
+// Incremental: feed frames in time order with add(), read current() at any time.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "x2car/core/rotation.hpp"
+
+namespace x2car::camera {
+
+// The car's motion at a frame, when a GNSS/INS log or odometry gives it.
+struct VehicleMotion {
+  double speed_mps = 0.0;  // [m/s]
+  double yaw_rate = 0.0;   // [rad/s]
+  // Along the track: the change of the speed per second [m/s^2].
+  double acceleration_mps2 = 0.0;
+};
+
+struct TemporalFilterOptions {
+  // The paper's window: n = 100 frames (§IV-A).
+  int window_frames = 100;
+  // The paper's threshold e = 0.005 rad on the std of each angle over a window (§IV-A).
+  double max_window_std = 0.005;  // [rad]
+  // A gap between frames longer than this ends a stretch [s] (10 dropped frames at 10 Hz).
+  double max_gap_s = 1.0;
+  // Motion gate, applied only to frames that come with a VehicleMotion: slower than this the road
+  // ahead says little about the car's axis (parking, queues) [m/s] ...
+  double min_speed_mps = 3.0;
+  // ... and while turning the road's direction is not the car's, and the body rolls [rad/s]
+  // (1 deg/s: a 1 km radius at 60 km/h).
+  double max_yaw_rate = rad_from_deg(1.0);
+  // ... and while speeding up or braking the body pitches on its suspension (some 0.3-0.5 deg per
+  // m/s^2), so the car's x axis leaves the road's lines: a steady acceleration out of a junction
+  // or onto a highway is a steady window with a biased pitch [m/s^2].
+  double max_acceleration_mps2 = 0.3;
+  // Added to each window's std in its weight, so that one window with an accidentally tiny spread
+  // does not outweigh the rest [rad].
+  double weight_floor = 0.001;
+  // Windows closer in time than this share the same road and light; the standard error treats
+  // them as one block [s] (core/standard_error.hpp).
+  double block_s = 30.0;
+  // The floor of the standard errors [rad], added in quadrature: the road's crossfall tilts the
+  // horizon of gravity against the car's (up to ~1 deg on a cambered road, mostly one way in one
+  // driving direction); a driver holds the lane's direction to ~0.05 deg on average; load and
+  // grade move the pitch by a few hundredths of a degree.
+  EulerAngles standard_error_floor{rad_from_deg(0.1), rad_from_deg(0.05), rad_from_deg(0.05)};
+
+  // Throws std::invalid_argument naming the offending field.
+  void Check() const;
+};
+
+// What add() did with a frame.
+enum class FrameVerdict {
+  kBuffered,      // usable; in the current window
+  kWindowPassed,  // usable, and it completed a passing window
+  kNoEstimate,    // the estimator gave no angles; the stretch ends
+  kSlow,          // gated: slower than min_speed_mps; the stretch ends
+  kTurning,       // gated: |yaw rate| above max_yaw_rate; the stretch ends
+  kAccelerating,  // gated: |acceleration| above max_acceleration_mps2; the stretch ends
+};
+const char* to_string(FrameVerdict verdict);  // "buffered", "window_passed", "no_estimate", ...
+
+// The motion gate alone: kSlow, kTurning or kAccelerating when `motion` fails it, nothing when it
+// passes or is unknown. add() applies it first, so a caller may skip estimating the frames it
+// gates.
+std::optional<FrameVerdict> motion_gate(const std::optional<VehicleMotion>& motion,
+                                        const TemporalFilterOptions& options);
+
+// One passing window.
+struct FilterWindow {
+  std::size_t first_frame = 0;  // indices of add() calls, from 0
+  std::size_t last_frame = 0;
+  double start_time = 0.0;  // [s]
+  double end_time = 0.0;
+  EulerAngles mean;  // [rad]
+  EulerAngles std;   // of the frames in it [rad]
+};
+
+struct FilterEstimate {
+  bool ok = false;             // at least one window passed
+  EulerAngles angles;          // [rad], when ok
+  EulerAngles standard_error;  // [rad], when ok
+  std::size_t windows = 0;
+  std::size_t frames_in_windows = 0;
+  // Why not ok: "only 43 frames in stable stretches; need 100", or the smallest std reached.
+  std::string reason;
+};
+
+class TemporalFilter {
+ public:
+  // Throws std::invalid_argument when the options fail Check().
+  explicit TemporalFilter(TemporalFilterOptions options = {});
+
+  // One frame, in time order (a time not after the previous one throws std::invalid_argument):
+  // its angles when the estimator gave them, its motion when known. The motion gate comes first:
+  // a gated frame is kSlow or kTurning whether or not it has angles.
+  FrameVerdict add(double time_s, const std::optional<EulerAngles>& angles,
+                   const std::optional<VehicleMotion>& motion = std::nullopt);
+
+  // The estimate from the windows so far.
+  FilterEstimate current() const;
+
+  const std::vector<FilterWindow>& windows() const { return windows_; }
+  std::size_t frames() const { return frames_; }
+  // Frames that were usable (estimated and not gated), and the longest stretch of them.
+  std::size_t usable_frames() const { return usable_frames_; }
+  std::size_t longest_stretch() const { return longest_stretch_; }
+
+ private:
+  struct Buffered {
+    std::size_t frame;
+    double time;
+    EulerAngles angles;
+  };
+  void end_stretch();
+  bool window_passes(EulerAngles& mean, EulerAngles& std) const;
+
+  TemporalFilterOptions options_;
+  std::vector<Buffered> window_;  // the current window, oldest first (at most window_frames)
+  std::vector<FilterWindow> windows_;
+  std::size_t frames_ = 0;
+  std::size_t usable_frames_ = 0;
+  std::size_t stretch_ = 0;
+  std::size_t longest_stretch_ = 0;
+  std::optional<double> last_time_;
+  std::optional<double> last_usable_time_;
+  // The smallest largest-of-three std of any full window that did not pass [rad], for the reason.
+  std::optional<EulerAngles> steadiest_failed_;
+};
+
+}  // namespace x2car::camera

@@ -1,0 +1,182 @@
+#include "x2car/camera/temporal_filter.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+namespace x2car::camera {
+namespace {
+
+const EulerAngles kTruth{rad_from_deg(1.2), rad_from_deg(3.4), rad_from_deg(-2.1)};
+
+// Per-frame angles as an estimator gives them: the truth plus independent noise [rad].
+class NoisyFrames {
+ public:
+  explicit NoisyFrames(double sigma, std::uint64_t seed = 3) : random_(seed), noise_(0.0, sigma) {}
+  EulerAngles next(const EulerAngles& truth = kTruth) {
+    return {truth.roll + noise_(random_), truth.pitch + noise_(random_),
+            truth.yaw + noise_(random_)};
+  }
+
+ private:
+  std::mt19937_64 random_;
+  std::normal_distribution<double> noise_;
+};
+
+TEST(TemporalFilter, SteadyFramesGiveDisjointWindowsAndTheirAverage) {
+  TemporalFilter filter;
+  NoisyFrames frames(0.001);
+  int passed = 0;
+  for (int i = 0; i < 350; ++i) {
+    if (filter.add(0.1 * i, frames.next()) == FrameVerdict::kWindowPassed) ++passed;
+  }
+  EXPECT_EQ(passed, 3);
+  ASSERT_EQ(filter.windows().size(), 3U);
+  EXPECT_EQ(filter.windows()[0].first_frame, 0U);
+  EXPECT_EQ(filter.windows()[0].last_frame, 99U);
+  EXPECT_EQ(filter.windows()[1].first_frame, 100U);
+  EXPECT_EQ(filter.windows()[2].last_frame, 299U);
+  const FilterEstimate estimate = filter.current();
+  ASSERT_TRUE(estimate.ok) << estimate.reason;
+  EXPECT_EQ(estimate.frames_in_windows, 300U);
+  // 300 frames of 0.001 rad noise: the mean is good to ~6e-5 rad.
+  EXPECT_NEAR(estimate.angles.roll, kTruth.roll, 3e-4);
+  EXPECT_NEAR(estimate.angles.pitch, kTruth.pitch, 3e-4);
+  EXPECT_NEAR(estimate.angles.yaw, kTruth.yaw, 3e-4);
+  // Never below the floor.
+  const TemporalFilterOptions defaults;
+  EXPECT_GE(estimate.standard_error.roll, defaults.standard_error_floor.roll);
+  EXPECT_GE(estimate.standard_error.pitch, defaults.standard_error_floor.pitch);
+  EXPECT_LT(estimate.standard_error.pitch, defaults.standard_error_floor.pitch + 1e-3);
+}
+
+TEST(TemporalFilter, TooFewFramesSaysHowMany) {
+  TemporalFilter filter;
+  NoisyFrames frames(0.001);
+  for (int i = 0; i < 43; ++i) filter.add(0.1 * i, frames.next());
+  const FilterEstimate estimate = filter.current();
+  EXPECT_FALSE(estimate.ok);
+  EXPECT_EQ(estimate.reason, "only 43 frames in stable stretches; need 100");
+}
+
+TEST(TemporalFilter, StretchesShorterThanAWindowDoNotAddUp) {
+  TemporalFilter filter;
+  NoisyFrames frames(0.001);
+  double time = 0.0;
+  for (int stretch = 0; stretch < 3; ++stretch) {
+    for (int i = 0; i < 60; ++i) filter.add(time += 0.1, frames.next());
+    EXPECT_EQ(filter.add(time += 0.1, std::nullopt), FrameVerdict::kNoEstimate);
+  }
+  const FilterEstimate estimate = filter.current();
+  EXPECT_FALSE(estimate.ok);
+  EXPECT_EQ(filter.longest_stretch(), 60U);
+  EXPECT_EQ(estimate.reason,
+            "only 180 frames in stable stretches, at most 60 in a row; need 100 in a row");
+}
+
+TEST(TemporalFilter, AGapEndsAStretch) {
+  TemporalFilter filter;
+  NoisyFrames frames(0.001);
+  for (int i = 0; i < 60; ++i) filter.add(0.1 * i, frames.next());
+  for (int i = 0; i < 60; ++i) filter.add(100.0 + 0.1 * i, frames.next());
+  EXPECT_EQ(filter.longest_stretch(), 60U);
+  EXPECT_FALSE(filter.current().ok);
+}
+
+TEST(TemporalFilter, UnsteadyFramesNeverPass) {
+  TemporalFilter filter;
+  NoisyFrames frames(0.01);  // twice the paper's threshold
+  for (int i = 0; i < 400; ++i) filter.add(0.1 * i, frames.next());
+  const FilterEstimate estimate = filter.current();
+  EXPECT_FALSE(estimate.ok);
+  EXPECT_NE(estimate.reason.find("no window of 100 frames was steady"), std::string::npos)
+      << estimate.reason;
+}
+
+// Turning and slow frames are gated out when the motion is known: the biased angles a turn gives
+// (the road's direction is not the car's) never reach the estimate.
+TEST(TemporalFilter, GatesTurnsAndSlowFramesByTheCarsMotion) {
+  TemporalFilter filter;
+  NoisyFrames frames(0.0005);
+  const EulerAngles in_turn{kTruth.roll + 0.02, kTruth.pitch, kTruth.yaw + 0.1};
+  double time = 0.0;
+  for (int i = 0; i < 150; ++i) filter.add(time += 0.1, frames.next(), VehicleMotion{12.0, 0.0});
+  EXPECT_EQ(filter.add(time += 0.1, frames.next(in_turn), VehicleMotion{12.0, 0.2}),
+            FrameVerdict::kTurning);
+  EXPECT_EQ(filter.add(time += 0.1, frames.next(in_turn), VehicleMotion{1.0, 0.0}),
+            FrameVerdict::kSlow);
+  for (int i = 0; i < 300; ++i) {
+    filter.add(time += 0.1, frames.next(in_turn), VehicleMotion{12.0, -0.1});
+  }
+  for (int i = 0; i < 150; ++i) filter.add(time += 0.1, frames.next(), VehicleMotion{12.0, 0.001});
+  const FilterEstimate estimate = filter.current();
+  ASSERT_TRUE(estimate.ok);
+  EXPECT_EQ(estimate.windows, 2U);
+  EXPECT_NEAR(estimate.angles.yaw, kTruth.yaw, 2e-4);
+  EXPECT_NEAR(estimate.angles.roll, kTruth.roll, 2e-4);
+}
+
+// Speeding up or braking pitches the body: a steady acceleration gives a steady but biased pitch,
+// which the gate keeps out when the motion is known.
+TEST(TemporalFilter, GatesAccelerationByTheCarsMotion) {
+  TemporalFilter filter;
+  NoisyFrames frames(0.0005);
+  const EulerAngles nose_up{kTruth.roll, kTruth.pitch - 0.015, kTruth.yaw};
+  double time = 0.0;
+  EXPECT_EQ(filter.add(time += 0.1, frames.next(nose_up), VehicleMotion{12.0, 0.0, 2.0}),
+            FrameVerdict::kAccelerating);
+  EXPECT_EQ(filter.add(time += 0.1, frames.next(nose_up), VehicleMotion{12.0, 0.0, -1.0}),
+            FrameVerdict::kAccelerating);
+  for (int i = 0; i < 200; ++i)
+    filter.add(time += 0.1, frames.next(nose_up), VehicleMotion{12.0, 0.0, 2.0});
+  for (int i = 0; i < 100; ++i)
+    filter.add(time += 0.1, frames.next(), VehicleMotion{12.0, 0.0, 0.1});
+  const FilterEstimate estimate = filter.current();
+  ASSERT_TRUE(estimate.ok);
+  EXPECT_EQ(estimate.windows, 1U);
+  EXPECT_NEAR(estimate.angles.pitch, kTruth.pitch, 2e-4);
+  EXPECT_STREQ(to_string(FrameVerdict::kAccelerating), "accelerating");
+}
+
+// Windows are weighted by 1 / (std^2 + weight_floor^2): a window twice as noisy weighs a quarter.
+TEST(TemporalFilter, WeighsWindowsByTheirSpread) {
+  TemporalFilterOptions options;
+  options.window_frames = 4;
+  options.weight_floor = 0.0;
+  TemporalFilter filter(options);
+  // Window 1: pitch 0.010 +- 0.001 (alternating), window 2: pitch 0.020 +- 0.002.
+  const double pitches[] = {0.009, 0.011, 0.009, 0.011, 0.018, 0.022, 0.018, 0.022};
+  for (int i = 0; i < 8; ++i) filter.add(0.1 * i, EulerAngles{0.0, pitches[i], 0.0});
+  ASSERT_EQ(filter.windows().size(), 2U);
+  const double std_1 = filter.windows()[0].std.pitch;
+  const double std_2 = filter.windows()[1].std.pitch;
+  EXPECT_NEAR(std_2, 2.0 * std_1, 1e-12);
+  const FilterEstimate estimate = filter.current();
+  EXPECT_NEAR(estimate.angles.pitch, (4.0 * 0.010 + 1.0 * 0.020) / 5.0, 1e-12);
+}
+
+TEST(TemporalFilter, RejectsTimesOutOfOrderAndBadOptions) {
+  TemporalFilter filter;
+  filter.add(1.0, kTruth);
+  EXPECT_THROW(filter.add(1.0, kTruth), std::invalid_argument);
+  EXPECT_THROW(filter.add(NAN, kTruth), std::invalid_argument);
+  TemporalFilterOptions options;
+  options.window_frames = 1;
+  EXPECT_THROW(TemporalFilter{options}, std::invalid_argument);
+  options = {};
+  options.max_window_std = 0.0;
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+  EXPECT_NO_THROW(TemporalFilterOptions{}.Check());
+}
+
+TEST(TemporalFilter, NonFiniteAnglesAreNoEstimate) {
+  TemporalFilter filter;
+  EXPECT_EQ(filter.add(0.0, EulerAngles{NAN, 0.0, 0.0}), FrameVerdict::kNoEstimate);
+  EXPECT_STREQ(to_string(FrameVerdict::kNoEstimate), "no_estimate");
+  EXPECT_EQ(filter.usable_frames(), 0U);
+}
+
+}  // namespace
+}  // namespace x2car::camera

@@ -1,0 +1,179 @@
+#include "x2car/io/image_folder.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cstdint>
+#include <system_error>
+
+#include "x2car/core/error.hpp"
+#include "x2car/core/options_check.hpp"
+#include "x2car/io/file_stem_time.hpp"
+#include "x2car/io/novatel_csv.hpp"
+#include "x2car/io/text_lines.hpp"
+
+namespace x2car::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool folder_exists(const fs::path& path) {
+  std::error_code error;
+  return fs::is_directory(path, error);
+}
+
+bool file_exists(const fs::path& path) {
+  std::error_code error;
+  return fs::is_regular_file(path, error);
+}
+
+bool is_image(const fs::path& path) {
+  std::string extension = path.extension().string();
+  std::ranges::transform(extension, extension.begin(),
+                         [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension == ".png" || extension == ".jpg" || extension == ".jpeg";
+}
+
+// Image files directly in `folder`, sorted by name; the other files counted.
+std::vector<fs::path> image_files(const fs::path& folder, std::size_t& others) {
+  std::vector<fs::path> images;
+  std::error_code error;
+  for (const fs::directory_entry& entry : fs::directory_iterator(folder, error)) {
+    if (!entry.is_regular_file()) continue;
+    if (is_image(entry.path())) {
+      images.push_back(entry.path());
+    } else {
+      ++others;
+    }
+  }
+  if (error) throw InputError(folder.string(), "cannot list the folder: " + error.message());
+  std::ranges::sort(images);
+  return images;
+}
+
+// One time per non-blank line: a UTC date-time (Unix seconds) or plain seconds.
+std::vector<double> read_timestamps(const fs::path& path) {
+  const std::string text = read_text_file(path);
+  std::vector<double> times;
+  std::vector<std::size_t> lines;
+  for (const TextLine& line : split_lines(text)) {
+    const std::string_view field = trim(line.text);
+    if (const std::optional<std::int64_t> ns = parse_utc_time(field)) {
+      times.push_back(seconds_between(*ns, 0));
+    } else {
+      times.push_back(parse_double(field, {path.string(), line.number, "timestamp"}));
+    }
+    lines.push_back(line.number);
+  }
+  for (std::size_t i = 1; i < times.size(); ++i) {
+    if (!(times[i] > times[i - 1])) {
+      throw InputError(
+          path.string(), lines[i], "timestamp",
+          fmt::format("the time does not increase (line {}: {} s, line {}: {} s)", lines[i - 1],
+                      format_number(times[i - 1]), lines[i], format_number(times[i])));
+    }
+  }
+  return times;
+}
+
+// The images of `images_folder` with the times of `timestamps` (one per image, name order) or,
+// without one, of their names.
+ImageFolder list_with_times(const fs::path& images_folder,
+                            const std::optional<fs::path>& timestamps) {
+  ImageFolder result;
+  result.folder = images_folder;
+  const std::vector<fs::path> files = image_files(images_folder, result.ignored_files);
+  if (files.empty()) {
+    throw InputError(images_folder.string(), "holds no images (*.png, *.jpg, *.jpeg)");
+  }
+  if (timestamps) {
+    const std::vector<double> times = read_timestamps(*timestamps);
+    if (times.size() != files.size()) {
+      throw InputError(timestamps->string(),
+                       fmt::format("holds {} timestamps but {} has {} images", times.size(),
+                                   images_folder.string(), files.size()));
+    }
+    for (std::size_t i = 0; i < files.size(); ++i) result.images.push_back({files[i], times[i]});
+    result.time_source = timestamps->string();
+    return result;
+  }
+  for (const fs::path& file : files) {
+    const std::optional<double> time = time_from_file_stem(file.stem().string());
+    if (!time) {
+      throw InputError(file.string(), 0, "file name",
+                       "no timestamps.txt beside the images and the name is not a time (seconds "
+                       "with a fraction, or 16+ digits of nanoseconds)");
+    }
+    result.images.push_back({file, *time});
+  }
+  std::ranges::stable_sort(result.images, {}, &ImageFile::time);
+  for (std::size_t i = 1; i < result.images.size(); ++i) {
+    if (result.images[i].time == result.images[i - 1].time) {
+      throw InputError(
+          result.images[i].path.string(), 0, "file name",
+          fmt::format("has the same time as {}", result.images[i - 1].path.filename().string()));
+    }
+  }
+  result.time_source = "file names";
+  return result;
+}
+
+std::optional<fs::path> existing_file(const fs::path& path) {
+  return file_exists(path) ? std::optional<fs::path>(path) : std::nullopt;
+}
+
+// A camera folder: images/ or data/ with timestamps.txt beside them.
+std::optional<ImageFolder> list_camera_folder(const fs::path& folder) {
+  for (const char* images : {"images", "data"}) {
+    if (folder_exists(folder / images)) {
+      return list_with_times(folder / images, existing_file(folder / "timestamps.txt"));
+    }
+  }
+  return std::nullopt;
+}
+
+// KITTI raw's image_0X folders in `folder`: the one asked for, else the only one, else image_02.
+std::optional<fs::path> kitti_camera(const fs::path& folder, std::optional<int> camera_index) {
+  if (camera_index) {
+    const fs::path path = folder / fmt::format("image_{:02d}", *camera_index);
+    return folder_exists(path) ? std::optional<fs::path>(path) : std::nullopt;
+  }
+  std::vector<fs::path> found;
+  for (int index = 0; index < 10; ++index) {
+    const fs::path path = folder / fmt::format("image_{:02d}", index);
+    if (folder_exists(path)) found.push_back(path);
+  }
+  if (found.size() == 1) return found.front();
+  if (folder_exists(folder / "image_02")) return folder / "image_02";
+  return std::nullopt;
+}
+
+}  // namespace
+
+ImageFolder list_images(const fs::path& folder, std::optional<int> camera_index) {
+  if (camera_index && (*camera_index < 0 || *camera_index > 9)) {
+    reject_argument("list_images: camera index {} is not 0-9", *camera_index);
+  }
+  if (!folder_exists(folder)) throw InputError(folder.string(), "is not a folder");
+  if (folder_exists(folder / "camera")) {
+    if (std::optional<ImageFolder> found = list_camera_folder(folder / "camera")) return *found;
+  }
+  if (const std::optional<fs::path> kitti = kitti_camera(folder, camera_index)) {
+    if (std::optional<ImageFolder> found = list_camera_folder(*kitti)) return *found;
+    throw InputError(kitti->string(), "a KITTI camera folder holds data/ and timestamps.txt");
+  }
+  if (camera_index) {
+    throw InputError(folder.string(), fmt::format("has no image_{:02d}/ (KITTI raw camera {})",
+                                                  *camera_index, *camera_index));
+  }
+  if (std::optional<ImageFolder> found = list_camera_folder(folder)) return *found;
+  std::optional<fs::path> timestamps = existing_file(folder / "timestamps.txt");
+  // "DIR/data/" names the same folder as "DIR/data": its parent is DIR either way.
+  const fs::path named = folder.filename().empty() ? folder.parent_path() : folder;
+  if (!timestamps) timestamps = existing_file(named.parent_path() / "timestamps.txt");
+  return list_with_times(folder, timestamps);
+}
+
+}  // namespace x2car::io

@@ -1,0 +1,114 @@
+#include "x2car/io/image_folder.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
+#include "x2car/core/test_matchers.hpp"
+#include "x2car/io/text_lines.hpp"
+
+namespace x2car::io {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::ElementsAre;
+using ::testing::HasSubstr;
+using x2car::testing::expect_input_error;
+using x2car::testing::input_error_of;
+
+fs::path fresh_folder(const std::string& name) {
+  const fs::path folder = fs::path(::testing::TempDir()) / ("image_folder_" + name);
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  return folder;
+}
+
+// Listing never decodes, so any bytes do for an image here.
+void touch(const fs::path& path) {
+  fs::create_directories(path.parent_path());
+  write_text_file(path, "not decoded\n");
+}
+
+std::vector<double> times_of(const ImageFolder& folder) {
+  std::vector<double> times;
+  for (const ImageFile& image : folder.images) times.push_back(image.time);
+  return times;
+}
+
+TEST(ImageFolder, ReadsASimulatedDriveFolderWithKittiTimestamps) {
+  const fs::path drive = fresh_folder("simulated");
+  touch(drive / "camera/images/0000000000.png");
+  touch(drive / "camera/images/0000000001.png");
+  touch(drive / "camera/intrinsics.yaml");
+  write_text_file(drive / "camera/timestamps.txt",
+                  "2011-09-26 13:02:25.594360375\n2011-09-26 13:02:25.698000000\n");
+  const ImageFolder folder = list_images(drive);
+  EXPECT_EQ(folder.folder, drive / "camera/images");
+  ASSERT_EQ(folder.images.size(), 2U);
+  EXPECT_EQ(folder.images[1].path, drive / "camera/images/0000000001.png");
+  // Unix seconds of 2011-09-26 13:02:25.594360375 UTC.
+  EXPECT_NEAR(folder.images[0].time, 1317042145.594360375, 1e-6);
+  EXPECT_NEAR(folder.images[1].time - folder.images[0].time, 0.103639625, 1e-6);
+  EXPECT_EQ(folder.time_source, (drive / "camera/timestamps.txt").string());
+}
+
+TEST(ImageFolder, PicksTheKittiCameraAskedFor) {
+  const fs::path drive = fresh_folder("kitti");
+  for (const char* camera : {"image_00", "image_02"}) {
+    touch(drive / camera / "data/0000000000.png");
+    write_text_file(drive / camera / "timestamps.txt", "2011-09-26 13:02:25.5\n");
+  }
+  EXPECT_EQ(list_images(drive).folder, drive / "image_02/data");  // KITTI's left colour camera
+  EXPECT_EQ(list_images(drive, 0).folder, drive / "image_00/data");
+  expect_input_error([&] { list_images(drive, 3); }, drive.string(), 0);
+  EXPECT_THROW(list_images(drive, 12), std::invalid_argument);
+  // The data folder itself finds timestamps.txt one level up.
+  EXPECT_EQ(list_images(drive / "image_00/data/").images.size(), 1U);
+}
+
+TEST(ImageFolder, TakesTimesFromNamesWithoutATimestampsFile) {
+  const fs::path folder = fresh_folder("names");
+  touch(folder / "10.250000.png");
+  touch(folder / "9.500000.JPG");
+  touch(folder / "1541234567123456789.jpeg");
+  touch(folder / "notes.txt");
+  const ImageFolder images = list_images(folder);
+  EXPECT_THAT(times_of(images), ElementsAre(9.5, 10.25, 1541234567.123456789));
+  EXPECT_EQ(images.ignored_files, 1U);
+  EXPECT_EQ(images.time_source, "file names");
+}
+
+TEST(ImageFolder, TakesSecondsFromATimestampsFile) {
+  const fs::path folder = fresh_folder("seconds");
+  touch(folder / "a.png");
+  touch(folder / "b.png");
+  write_text_file(folder / "timestamps.txt", "12.5\n12.6\n");
+  EXPECT_THAT(times_of(list_images(folder)), ElementsAre(12.5, 12.6));
+}
+
+TEST(ImageFolder, RejectsMissingOrBrokenTimes) {
+  const fs::path folder = fresh_folder("broken");
+  touch(folder / "0000000000.png");
+  touch(folder / "0000000001.png");
+  // Frame numbers are not times.
+  expect_input_error([&] { list_images(folder); }, (folder / "0000000000.png").string(), 0,
+                     "file name");
+  write_text_file(folder / "timestamps.txt", "1.0\n");
+  const InputError count = input_error_of([&] { list_images(folder); });
+  EXPECT_THAT(count.what(), HasSubstr("holds 1 timestamps but"));
+  write_text_file(folder / "timestamps.txt", "1.0\nyesterday\n");
+  expect_input_error([&] { list_images(folder); }, (folder / "timestamps.txt").string(), 2,
+                     "timestamp");
+  write_text_file(folder / "timestamps.txt", "2.0\n1.0\n");
+  expect_input_error([&] { list_images(folder); }, (folder / "timestamps.txt").string(), 2,
+                     "timestamp");
+  const fs::path empty = fresh_folder("empty");
+  expect_input_error([&] { list_images(empty); }, empty.string(), 0);
+  expect_input_error([&] { list_images(empty / "missing"); }, (empty / "missing").string(), 0);
+}
+
+}  // namespace
+}  // namespace x2car::io
