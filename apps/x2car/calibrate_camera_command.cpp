@@ -32,7 +32,7 @@ struct CalibrateCameraArguments {
   std::string ins_path;
   std::optional<int> camera_index;
   bool unrectified = false;
-  std::string estimator = "geometric";
+  std::string estimator;
   std::optional<int> window_frames;
   std::optional<double> max_window_std_deg;
   bool skip_bad_images = false;
@@ -72,6 +72,9 @@ core::CameraIntrinsics find_intrinsics(const CalibrateCameraArguments& arguments
 
 camera::CameraCalibrationOptions calibration_options(const CalibrateCameraArguments& arguments) {
   camera::CameraCalibrationOptions options;
+  if (!arguments.estimator.empty()) {
+    options.method = enum_from_string(camera::kCameraMethodNames, arguments.estimator, "estimator");
+  }
   if (arguments.window_frames) options.filter.window_frames = *arguments.window_frames;
   if (arguments.max_window_std_deg) {
     options.filter.max_window_std = rad_from_deg(*arguments.max_window_std_deg);
@@ -176,9 +179,13 @@ RunCommand setup_calibrate_camera_command(CLI::App& command) {
   command.add_flag("--unrectified", arguments->unrectified,
                    "The images are KITTI's unrectified ones (*_extract): use K_0X and D_0X, not "
                    "P_rect_0X");
-  command.add_option("--estimator", arguments->estimator, "Per-frame estimator")
-      ->check(CLI::IsMember({"geometric"}))
-      ->default_str("geometric");
+  command
+      .add_option("--estimator", arguments->estimator,
+                  "Per-frame estimator: geometric (lines' vanishing point, gravity's horizon), "
+                  "motion (the car's travel and the road plane between frames), auto (pitch and "
+                  "yaw from the lines, roll from the road plane)")
+      ->check(CLI::IsMember(enum_names(camera::kCameraMethodNames)))
+      ->default_str(camera::to_string(defaults.method));
   command
       .add_option("--window-frames", arguments->window_frames,
                   "Frames per steadiness window (the paper's n)")

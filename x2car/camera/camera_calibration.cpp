@@ -19,7 +19,9 @@ namespace x2car::camera {
 
 void CameraCalibrationOptions::Check() const {
   const OptionsCheck check("CameraCalibrationOptions");
-  if (!estimator) geometric.Check();
+  if (!estimator && method != CameraMethod::kMotion) geometric.Check();
+  if (!estimator && method != CameraMethod::kGeometric) motion.Check();
+  check.positive("max_pair_gap_s", max_pair_gap_s);
   filter.Check();
   check.positive("max_window_disagreement", max_window_disagreement);
 }
@@ -61,22 +63,27 @@ std::optional<VehicleMotion> motion_at(const CameraFrameSource& frames, std::siz
   return frames.motion.empty() ? std::nullopt : frames.motion[index];
 }
 
-// The parallel stage: gate, decode, check the size, estimate, turn into angles.
-void estimate_frame(const CameraFrameSource& frames, const core::CameraIntrinsics& intrinsics,
-                    const CameraCalibrationOptions& options, const FrameEstimator& estimator,
-                    std::size_t index, FrameRecord& record) {
-  if (motion_gate(motion_at(frames, index), options.filter)) {
-    record.gated = true;
-    return;
-  }
-  cv::Mat image;
-  try {
-    image = frames.read(index);
-  } catch (const InputError& error) {
-    if (!options.skip_bad_images) throw;
-    record.read_error = error.what();
-    return;
-  }
+// The estimators a run uses: one of them or both (auto).
+struct Estimators {
+  FrameEstimator single;  // from one image: geometric or the caller's
+  PairEstimator pair;     // from the image and the one before it: motion
+};
+
+Estimators make_estimators(const CameraCalibrationOptions& options) {
+  if (options.estimator) return {options.estimator, {}};
+  Estimators estimators;
+  if (options.method != CameraMethod::kMotion)
+    estimators.single = make_geometric_estimator(options.geometric);
+  if (options.method != CameraMethod::kGeometric)
+    estimators.pair = make_road_plane_motion_estimator(options.motion);
+  return estimators;
+}
+
+// Decodes a frame and checks its size: an empty image or one of another size than the intrinsics'
+// is an InputError naming the frame.
+cv::Mat read_frame(const CameraFrameSource& frames, const core::CameraIntrinsics& intrinsics,
+                   std::size_t index) {
+  cv::Mat image = frames.read(index);
   if (image.empty()) {
     throw InputError(frame_name(frames, index), "the image is empty (not decodable?)");
   }
@@ -85,7 +92,67 @@ void estimate_frame(const CameraFrameSource& frames, const core::CameraIntrinsic
                      fmt::format("the image is {}x{} pixels; the intrinsics say {}x{}", image.cols,
                                  image.rows, intrinsics.width, intrinsics.height));
   }
-  record.estimate = estimator(image, intrinsics);
+  return image;
+}
+
+// The motion estimate of frame `index` from it and the frame before (decoded again here: frames
+// are estimated in parallel, in no order).
+FrameEstimate estimate_pair(const CameraFrameSource& frames,
+                            const core::CameraIntrinsics& intrinsics,
+                            const CameraCalibrationOptions& options, const PairEstimator& estimator,
+                            std::size_t index, const cv::Mat& image) {
+  if (index == 0 || frames.times[index] - frames.times[index - 1] > options.max_pair_gap_s) {
+    return rejected_frame(FrameRejection::kNoPreviousFrame);
+  }
+  cv::Mat previous;
+  try {
+    previous = read_frame(frames, intrinsics, index - 1);
+  } catch (const InputError&) {
+    // Its own turn in the pipeline reports it (or counts it, with skip_bad_images).
+    if (!options.skip_bad_images) throw;
+    return rejected_frame(FrameRejection::kNoPreviousFrame);
+  }
+  return estimator(previous, image, intrinsics);
+}
+
+// auto: the lines' vanishing point with the road plane's horizon.
+FrameEstimate combine(const FrameEstimate& lines, const FrameEstimate& road) {
+  if (!lines.usable()) return lines;
+  if (!road.usable()) return road;
+  FrameEstimate combined = lines;
+  combined.horizon_line = road.horizon_line;
+  combined.horizon_source = road.horizon_source;
+  combined.horizon_inliers = road.road_inliers;
+  combined.quality = std::min(lines.quality, road.quality);
+  return combined;
+}
+
+// The parallel stage: gate, decode, check the size, estimate, turn into angles.
+void estimate_frame(const CameraFrameSource& frames, const core::CameraIntrinsics& intrinsics,
+                    const CameraCalibrationOptions& options, const Estimators& estimators,
+                    std::size_t index, FrameRecord& record) {
+  if (motion_gate(motion_at(frames, index), options.filter)) {
+    record.gated = true;
+    return;
+  }
+  cv::Mat image;
+  try {
+    image = read_frame(frames, intrinsics, index);
+  } catch (const InputError& error) {
+    if (!options.skip_bad_images) throw;
+    record.read_error = error.what();
+    return;
+  }
+  if (estimators.single && estimators.pair) {
+    const FrameEstimate lines = estimators.single(image, intrinsics);
+    record.estimate = lines.usable() ? combine(lines, estimate_pair(frames, intrinsics, options,
+                                                                    estimators.pair, index, image))
+                                     : lines;
+  } else if (estimators.pair) {
+    record.estimate = estimate_pair(frames, intrinsics, options, estimators.pair, index, image);
+  } else {
+    record.estimate = estimators.single(image, intrinsics);
+  }
   if (!record.estimate.usable()) return;
   record.angles =
       vehicle_from_camera_angles(record.estimate.road_vanishing_point_px,
@@ -96,7 +163,7 @@ void estimate_frame(const CameraFrameSource& frames, const core::CameraIntrinsic
 std::vector<FrameRecord> run_frames(const CameraFrameSource& frames,
                                     const core::CameraIntrinsics& intrinsics,
                                     const CameraCalibrationOptions& options,
-                                    const FrameEstimator& estimator, TemporalFilter& filter,
+                                    const Estimators& estimators, TemporalFilter& filter,
                                     std::vector<FrameVerdict>& verdicts) {
   const std::size_t count = frames.times.size();
   std::vector<FrameRecord> records(count);
@@ -122,7 +189,7 @@ std::vector<FrameRecord> run_frames(const CameraFrameSource& frames,
               [&](std::size_t index) {
                 if (stopping.load()) return index;
                 try {
-                  estimate_frame(frames, intrinsics, options, estimator, index, records[index]);
+                  estimate_frame(frames, intrinsics, options, estimators, index, records[index]);
                 } catch (...) {
                   records[index].error = std::current_exception();
                 }
@@ -219,17 +286,16 @@ std::optional<std::string> first_read_error(const std::vector<FrameRecord>& reco
 CalibrationResult calibrate(const CameraFrameSource& frames,
                             const core::CameraIntrinsics& intrinsics,
                             const CameraCalibrationOptions& options) {
-  const FrameEstimator estimator =
-      options.estimator ? options.estimator : make_geometric_estimator(options.geometric);
+  const Estimators estimators = make_estimators(options);
   TemporalFilter filter(options.filter);
   std::vector<FrameVerdict> verdicts;
   const std::vector<FrameRecord> records =
-      run_frames(frames, intrinsics, options, estimator, filter, verdicts);
+      run_frames(frames, intrinsics, options, estimators, filter, verdicts);
   const FilterEstimate estimate = filter.current();
 
   CalibrationResult result;
   result.sensor = kSensor;
-  result.method = options.estimator ? options.estimator_name : "geometric";
+  result.method = options.estimator ? options.estimator_name : to_string(options.method);
   result.support["frames"] = static_cast<std::int64_t>(frames.times.size());
   result.support["usable_frames"] = static_cast<std::int64_t>(filter.usable_frames());
   result.support["longest_stretch"] = static_cast<std::int64_t>(filter.longest_stretch());

@@ -10,6 +10,7 @@
 // unreliable.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <optional>
@@ -18,9 +19,11 @@
 
 #include "x2car/camera/frame_estimate.hpp"
 #include "x2car/camera/geometric_estimator.hpp"
+#include "x2car/camera/road_plane_motion.hpp"
 #include "x2car/camera/temporal_filter.hpp"
 #include "x2car/core/calibration_result.hpp"
 #include "x2car/core/camera_model.hpp"
+#include "x2car/core/enum_names.hpp"
 
 namespace cv {
 class Mat;
@@ -28,12 +31,38 @@ class Mat;
 
 namespace x2car::camera {
 
+// Which per-frame estimates the calibrator makes (issue 14 item 2; docs/methods.md, camera §1-1a).
+enum class CameraMethod {
+  kGeometric,  // "geometric": the lines' vanishing point and the vertical vanishing point's
+               //   (gravity's) horizon, from each image alone
+  kMotion,     // "motion": the car's travel (pitch, yaw) and the road plane (roll) from each frame
+               //   and the one before it (road_plane_motion.hpp)
+  kAuto,       // "auto": pitch and yaw from the lines' vanishing point (the more precise), roll
+               //   from the road plane's motion (the road's horizon, not gravity's)
+};
+
+constexpr std::array<EnumName<CameraMethod>, 3> kCameraMethodNames{{
+    {CameraMethod::kGeometric, "geometric"},
+    {CameraMethod::kMotion, "motion"},
+    {CameraMethod::kAuto, "auto"},
+}};
+
+inline const char* to_string(CameraMethod method) {
+  return enum_to_string(kCameraMethodNames, method);
+}
+
 struct CameraCalibrationOptions {
-  // The per-frame estimator; empty: the geometric one with `geometric`.
+  CameraMethod method = CameraMethod::kGeometric;
+  // A single-image estimator that replaces `method` (a learned one, a test's); empty: `method`.
   FrameEstimator estimator;
-  // The name the result's `method` reports for `estimator` ("geometric" when it is empty).
+  // The name the result's `method` reports for `estimator`.
   std::string estimator_name;
   GeometricEstimatorOptions geometric;
+  RoadPlaneMotionOptions motion;
+  // The motion estimator pairs a frame with the one before it when they are at most this far apart
+  // [s]; otherwise the frame is no_previous_frame (0.25 s: down to 4 Hz video; past it the road
+  // ahead moves out of the lower image between frames at city speeds).
+  double max_pair_gap_s = 0.25;
   // The paper's window and threshold, the motion gate, the averaging and the standard errors.
   TemporalFilterOptions filter;
   // The passing windows' means may differ by at most this much in any angle [rad] (largest minus

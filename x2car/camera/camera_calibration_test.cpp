@@ -140,6 +140,34 @@ TEST(CalibrateCamera, BlankFramesAreCountedByReason) {
   EXPECT_EQ(result.rejections.at("too_few_lines"), 4);
 }
 
+// The motion estimator pairs each frame with the one before it: the first frame, and every frame
+// after a gap longer than max_pair_gap_s, has none. The street of these tests stands still (the
+// drawn scene does not move with the car), so the pairs that are made see no travel: a reason for
+// every frame, never a number.
+TEST(CalibrateCamera, MotionPairsFramesAndCountsWhyNot) {
+  CameraFrameSource frames = street_drive(6);
+  frames.times[3] += 0.5;  // a gap: frame 3 has no previous frame within 0.25 s
+  frames.times[4] += 0.5;
+  frames.times[5] += 0.5;
+  for (const CameraMethod method : {CameraMethod::kMotion, CameraMethod::kAuto}) {
+    CameraCalibrationOptions options = short_windows();
+    options.method = method;
+    const CalibrationResult result =
+        calibrate_camera(frames, core::camera_preset("kitti"), options);
+    EXPECT_EQ(result.status, CalibrationStatus::kInsufficientData);
+    EXPECT_EQ(result.method, to_string(method));
+    EXPECT_EQ(result.rejections.at("no_previous_frame"), 2) << to_string(method);
+    int counted = 0;
+    for (const auto& [reason, count] : result.rejections) counted += static_cast<int>(count);
+    EXPECT_EQ(counted, 6) << to_string(method);
+    EXPECT_EQ(result.support.at("usable_frames"), 0);
+  }
+  CameraCalibrationOptions bad;
+  bad.method = CameraMethod::kMotion;
+  bad.motion.min_inliers = 2;
+  EXPECT_THROW(calibrate_camera(frames, core::camera_preset("kitti"), bad), std::invalid_argument);
+}
+
 TEST(CalibrateCamera, RejectsABadSourceOrOptions) {
   CameraFrameSource frames = street_drive(3);
   frames.times[2] = frames.times[1];

@@ -29,15 +29,24 @@ enum class FrameRejection {
   kNoHorizon,        // "no_horizon": no vertical vanishing point and no second horizontal one
   kUnreadableImage,  // "unreadable_image": the image could not be decoded
   kWrongImageSize,   // "wrong_image_size": the image's size differs from the intrinsics'
+  // The motion estimator's (road_plane_motion.hpp):
+  kNoPreviousFrame,  // "no_previous_frame": the first frame, or one after a gap in time
+  kTooFewTracks,     // "too_few_tracks": too few road points tracked into the frame
+  kTooLittleMotion,  // "too_little_motion": the car moved too little for the road's parallax
+  kNoRoadPlane,      // "no_road_plane": no plane below the camera that enough tracks agree on
 };
 
-constexpr std::array<EnumName<FrameRejection>, 6> kFrameRejectionNames{{
+constexpr std::array<EnumName<FrameRejection>, 10> kFrameRejectionNames{{
     {FrameRejection::kTooFewLines, "too_few_lines"},
     {FrameRejection::kNoConsensus, "no_consensus"},
     {FrameRejection::kOutsideCone, "outside_cone"},
     {FrameRejection::kNoHorizon, "no_horizon"},
     {FrameRejection::kUnreadableImage, "unreadable_image"},
     {FrameRejection::kWrongImageSize, "wrong_image_size"},
+    {FrameRejection::kNoPreviousFrame, "no_previous_frame"},
+    {FrameRejection::kTooFewTracks, "too_few_tracks"},
+    {FrameRejection::kTooLittleMotion, "too_little_motion"},
+    {FrameRejection::kNoRoadPlane, "no_road_plane"},
 }};
 
 inline const char* to_string(FrameRejection rejection) {
@@ -49,6 +58,7 @@ enum class HorizonSource {
   kNone,
   kVerticalVanishingPoint,  // the up direction is the ray to the vertical vanishing point
   kSecondHorizontal,        // the line through the road's and a second horizontal vanishing point
+  kRoadPlaneMotion,         // the road plane's, from its motion between two frames
 };
 
 struct FrameEstimate {
@@ -86,5 +96,10 @@ inline FrameEstimate rejected_frame(FrameRejection rejection) {
 // rejection).
 using FrameEstimator =
     std::function<FrameEstimate(const cv::Mat& image, const core::CameraIntrinsics& intrinsics)>;
+
+// A per-frame estimator that needs the frame before as well (the motion estimator): the previous
+// image first, then the current one, whose estimate it returns. The same rules as FrameEstimator.
+using PairEstimator = std::function<FrameEstimate(const cv::Mat& previous, const cv::Mat& image,
+                                                  const core::CameraIntrinsics& intrinsics)>;
 
 }  // namespace x2car::camera

@@ -7,6 +7,7 @@
 #include <random>
 #include <vector>
 
+#include "x2car/camera/grey_image.hpp"
 #include "x2car/camera/vanishing_rotation.hpp"
 #include "x2car/core/options_check.hpp"
 
@@ -45,17 +46,6 @@ struct DirectionFit {
   std::vector<int> inliers;   // indices into the segments
   double support_px = 0.0;    // summed length of the inliers
 };
-
-cv::Mat grey_8bit(const cv::Mat& image) {
-  cv::Mat grey = image;
-  if (image.channels() == 3) {
-    cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
-  } else if (image.channels() == 4) {
-    cv::cvtColor(image, grey, cv::COLOR_BGRA2GRAY);
-  }
-  if (grey.depth() == CV_16U) grey.convertTo(grey, CV_8U, 1.0 / 256.0);
-  return grey;
-}
 
 // Step 1-2: LSD, undistorted endpoints, the length filter, each segment's plane.
 std::vector<Segment> detect_segments(const cv::Mat& grey, const core::CameraIntrinsics& intrinsics,

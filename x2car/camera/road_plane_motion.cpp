@@ -1,0 +1,236 @@
+#include "x2car/camera/road_plane_motion.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+#include <vector>
+
+#include "x2car/camera/grey_image.hpp"
+#include "x2car/camera/vanishing_rotation.hpp"
+#include "x2car/core/options_check.hpp"
+
+namespace x2car::camera {
+
+void RoadPlaneMotionOptions::Check() const {
+  const OptionsCheck check("RoadPlaneMotionOptions");
+  check.at_least("max_features", max_features, 8);
+  check.in_range("feature_quality", feature_quality, 0.0, 1.0, Bounds::kOpenMin);
+  check.positive("min_feature_distance_px", min_feature_distance_px);
+  check.in_range("road_region_depression", road_region_depression, -kPi / 4.0, kPi / 4.0);
+  check.at_least("tracking_window_px", tracking_window_px, 5);
+  check.in_range("pyramid_levels", pyramid_levels, 0, 8);
+  check.positive("max_forward_backward_px", max_forward_backward_px);
+  check.positive("ransac_threshold_px", ransac_threshold_px);
+  check.at_least("min_inliers", min_inliers, 8);
+  check.non_negative("min_translation_over_height", min_translation_over_height);
+  check.in_range("max_rotation", max_rotation, 0.0, kPi / 4.0, Bounds::kOpenMin);
+  check.in_range("max_normal_tilt", max_normal_tilt, 0.0, kPi / 2.0, Bounds::kOpen);
+}
+
+namespace {
+
+Eigen::Matrix3d from_cv(const cv::Mat& matrix) {
+  Eigen::Matrix3d out;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) out(r, c) = matrix.at<double>(r, c);
+  }
+  return out;
+}
+
+Eigen::Vector3d vector_from_cv(const cv::Mat& vector) {
+  return {vector.at<double>(0), vector.at<double>(1), vector.at<double>(2)};
+}
+
+// Step 1: Shi-Tomasi corners below the road region's top row, tracked forward and back.
+void track_road_points(const cv::Mat& previous_grey, const cv::Mat& current_grey,
+                       const core::CameraIntrinsics& intrinsics,
+                       const RoadPlaneMotionOptions& options,
+                       std::vector<Eigen::Vector2d>& previous_px,
+                       std::vector<Eigen::Vector2d>& current_px) {
+  const double top_row = intrinsics.cy + intrinsics.fy * std::tan(options.road_region_depression);
+  const int top = std::clamp(static_cast<int>(std::ceil(top_row)), 0, previous_grey.rows - 1);
+  cv::Mat mask = cv::Mat::zeros(previous_grey.size(), CV_8U);
+  mask.rowRange(top, previous_grey.rows).setTo(255);
+  std::vector<cv::Point2f> corners;
+  cv::goodFeaturesToTrack(previous_grey, corners, options.max_features, options.feature_quality,
+                          options.min_feature_distance_px, mask);
+  if (corners.empty()) return;
+  const cv::Size window(options.tracking_window_px, options.tracking_window_px);
+  const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01);
+  std::vector<cv::Point2f> forward;
+  std::vector<cv::Point2f> back;
+  std::vector<unsigned char> forward_ok;
+  std::vector<unsigned char> back_ok;
+  std::vector<float> errors;
+  cv::calcOpticalFlowPyrLK(previous_grey, current_grey, corners, forward, forward_ok, errors,
+                           window, options.pyramid_levels, criteria);
+  cv::calcOpticalFlowPyrLK(current_grey, previous_grey, forward, back, back_ok, errors, window,
+                           options.pyramid_levels, criteria);
+  const double max_miss_squared = options.max_forward_backward_px * options.max_forward_backward_px;
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    if (!forward_ok[i] || !back_ok[i]) continue;
+    const cv::Point2f miss = back[i] - corners[i];
+    if (miss.dot(miss) > max_miss_squared) continue;
+    const cv::Point2f& p = forward[i];
+    if (p.x < 0.0f || p.y < 0.0f || p.x > static_cast<float>(current_grey.cols - 1) ||
+        p.y > static_cast<float>(current_grey.rows - 1)) {
+      continue;
+    }
+    previous_px.emplace_back(corners[i].x, corners[i].y);
+    current_px.emplace_back(p.x, p.y);
+  }
+}
+
+// Step 4: of the decomposition's solutions, the one whose normal points down the most; nullopt
+// when none is within max_normal_tilt of +y.
+struct PlaneMotion {
+  Eigen::Matrix3d rotation;     // R: X2 = R X1 + t
+  Eigen::Vector3d translation;  // t / d
+  Eigen::Vector3d normal;       // n in the first frame, unit, pointing down to the road
+};
+
+std::optional<PlaneMotion> decompose(const cv::Mat& homography,
+                                     const RoadPlaneMotionOptions& options) {
+  std::vector<cv::Mat> rotations;
+  std::vector<cv::Mat> translations;
+  std::vector<cv::Mat> normals;
+  cv::decomposeHomographyMat(homography, cv::Mat::eye(3, 3, CV_64F), rotations, translations,
+                             normals);
+  std::optional<PlaneMotion> best;
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    const Eigen::Vector3d normal = vector_from_cv(normals[i]).normalized();
+    if (!normal.allFinite()) continue;
+    if (best && normal.y() <= best->normal.y()) continue;
+    best = PlaneMotion{from_cv(rotations[i]), vector_from_cv(translations[i]), normal};
+  }
+  if (!best || std::acos(std::clamp(best->normal.y(), -1.0, 1.0)) > options.max_normal_tilt) {
+    return std::nullopt;
+  }
+  return best;
+}
+
+}  // namespace
+
+FrameEstimate road_plane_from_tracks(const std::vector<Eigen::Vector2d>& previous_px,
+                                     const std::vector<Eigen::Vector2d>& current_px,
+                                     const core::CameraIntrinsics& intrinsics,
+                                     const RoadPlaneMotionOptions& options) {
+  const std::size_t count = std::min(previous_px.size(), current_px.size());
+  if (count < static_cast<std::size_t>(std::max(options.min_inliers, 8))) {
+    FrameEstimate rejected = rejected_frame(FrameRejection::kTooFewTracks);
+    rejected.segments = static_cast<int>(count);
+    return rejected;
+  }
+  // Step 2: normalised, undistorted image points.
+  std::vector<cv::Point2d> previous_points;
+  std::vector<cv::Point2d> current_points;
+  previous_points.reserve(count);
+  current_points.reserve(count);
+  const bool distorted = intrinsics.distortion_model != core::DistortionModel::kNone;
+  const auto normalise = [&](const Eigen::Vector2d& pixel) {
+    const Eigen::Vector2d undistorted =
+        distorted ? core::undistort_pixel(intrinsics, pixel) : pixel;
+    return cv::Point2d((undistorted.x() - intrinsics.cx) / intrinsics.fx,
+                       (undistorted.y() - intrinsics.cy) / intrinsics.fy);
+  };
+  for (std::size_t i = 0; i < count; ++i) {
+    previous_points.push_back(normalise(previous_px[i]));
+    current_points.push_back(normalise(current_px[i]));
+  }
+  // Step 3: the road's homography. OpenCV's RANSAC draws from its own fixed-seed generator, so a
+  // pair always gives the same answer, whichever thread runs it.
+  std::vector<unsigned char> inlier_mask;
+  const double threshold = options.ransac_threshold_px / intrinsics.fx;
+  const cv::Mat homography = cv::findHomography(previous_points, current_points, cv::RANSAC,
+                                                threshold, inlier_mask, 2000, 0.999);
+  const int inliers = static_cast<int>(std::count(inlier_mask.begin(), inlier_mask.end(), 1));
+  FrameEstimate estimate;
+  estimate.segments = static_cast<int>(count);
+  estimate.road_inliers = inliers;
+  estimate.horizon_inliers = inliers;
+  if (homography.empty() || inliers < options.min_inliers) {
+    estimate.rejection = FrameRejection::kNoRoadPlane;
+    return estimate;
+  }
+  // Step 4.
+  const std::optional<PlaneMotion> motion = decompose(homography, options);
+  if (!motion) {
+    estimate.rejection = FrameRejection::kNoRoadPlane;
+    return estimate;
+  }
+  const Eigen::AngleAxisd rotation(motion->rotation);
+  if (!motion->translation.allFinite() || !std::isfinite(rotation.angle()) ||
+      std::abs(rotation.angle()) > options.max_rotation) {
+    estimate.rejection = FrameRejection::kNoRoadPlane;
+    return estimate;
+  }
+  if (motion->translation.norm() < options.min_translation_over_height) {
+    estimate.rejection = FrameRejection::kTooLittleMotion;
+    return estimate;
+  }
+  // Step 5: the chord from the first camera centre to the second, in the first frame, turned on
+  // by half the camera's turn (R maps the first frame's coordinates to the second's, so the camera
+  // turned by R^T): the heading at the current frame; then both directions in the current frame.
+  const Eigen::Vector3d chord = -(motion->rotation.transpose() * motion->translation);
+  const Eigen::Matrix3d half_turn =
+      Eigen::AngleAxisd(-0.5 * rotation.angle(), rotation.axis()).toRotationMatrix();
+  const Eigen::Vector3d forward = motion->rotation * (half_turn * chord.normalized());
+  const Eigen::Vector3d up = -(motion->rotation * motion->normal);
+  const Eigen::Matrix3d camera_matrix = intrinsics.camera_matrix();
+  const std::optional<Eigen::Vector3d> horizon = horizon_from_up(up, camera_matrix);
+  if (forward.z() <= 1e-6 || !horizon) {
+    estimate.rejection = FrameRejection::kNoRoadPlane;
+    return estimate;
+  }
+  const Eigen::Vector3d vanishing = camera_matrix * forward;
+  estimate.road_vanishing_point_px = vanishing.head<2>() / vanishing.z();
+  estimate.horizon_line = *horizon;
+  estimate.horizon_source = HorizonSource::kRoadPlaneMotion;
+  estimate.quality = static_cast<double>(inliers) / static_cast<double>(count);
+  // RMS transfer error of the inliers [rad at the image centre, like the geometric residual].
+  Eigen::Matrix3d h;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) h(r, c) = homography.at<double>(r, c);
+  }
+  double sum_squared = 0.0;
+  for (std::size_t i = 0; i < count; ++i) {
+    if (!inlier_mask[i]) continue;
+    const Eigen::Vector3d mapped =
+        h * Eigen::Vector3d(previous_points[i].x, previous_points[i].y, 1.0);
+    const Eigen::Vector2d miss =
+        mapped.head<2>() / mapped.z() - Eigen::Vector2d(current_points[i].x, current_points[i].y);
+    sum_squared += miss.squaredNorm();
+  }
+  estimate.road_residual_rms = std::sqrt(sum_squared / inliers);
+  return estimate;
+}
+
+FrameEstimate estimate_road_plane_motion(const cv::Mat& previous, const cv::Mat& current,
+                                         const core::CameraIntrinsics& intrinsics,
+                                         const RoadPlaneMotionOptions& options) {
+  if (previous.empty() || current.empty()) return rejected_frame(FrameRejection::kUnreadableImage);
+  for (const cv::Mat* image : {&previous, &current}) {
+    if (image->cols != intrinsics.width || image->rows != intrinsics.height) {
+      return rejected_frame(FrameRejection::kWrongImageSize);
+    }
+  }
+  std::vector<Eigen::Vector2d> previous_px;
+  std::vector<Eigen::Vector2d> current_px;
+  track_road_points(grey_8bit(previous), grey_8bit(current), intrinsics, options, previous_px,
+                    current_px);
+  return road_plane_from_tracks(previous_px, current_px, intrinsics, options);
+}
+
+PairEstimator make_road_plane_motion_estimator(const RoadPlaneMotionOptions& options) {
+  options.Check();
+  return [options](const cv::Mat& previous, const cv::Mat& current,
+                   const core::CameraIntrinsics& intrinsics) {
+    return estimate_road_plane_motion(previous, current, intrinsics, options);
+  };
+}
+
+}  // namespace x2car::camera

@@ -1,0 +1,93 @@
+// The motion estimator (issue 14 item 2): the road plane and the car's travel from two consecutive
+// frames, so that the horizon is the road's, not gravity's.
+//
+// The vertical vanishing point of the geometric estimator gives gravity's horizon; on a road with
+// crossfall the car leans against gravity, and that lean enters the roll (docs/methods.md, camera
+// §4). The road itself is a plane under the car, parallel to the car's x-y plane (its wheels stand
+// on it), and between two frames the image of a plane moves by a homography
+//
+//   x2 ~ H x1,   H = R + t n^T / d                                   (Hartley & Zisserman, 13.1)
+//
+// (x the normalised image points, R and t the camera's motion X2 = R X1 + t, n the plane's unit
+// normal and d its distance, n^T X1 = d, in the first camera's optical frame). So, per frame pair:
+//   1. corners (Shi-Tomasi) in the lower part of the previous image, where the road is, tracked
+//      into the current one by pyramidal Lucas-Kanade, forward and back (a track that does not
+//      come back to its start within `max_forward_backward_px` is dropped);
+//   2. the tracks undistorted (core::undistort_pixel) and normalised by K;
+//   3. the plane's homography by RANSAC (the points not on the road: kerbs, sidewalks, cars, are
+//      its outliers), refined by least squares on the inliers (OpenCV findHomography);
+//   4. H decomposed (Malis & Vargas 2007, OpenCV decomposeHomographyMat); of its solutions the
+//      one whose normal points down (+y in the optical frame: the road lies below the camera);
+//   5. the car's up direction in the current frame is -R n; its forward direction is the chord
+//      -R^T t turned back by half the frame pair's rotation (on a steady curve the chord lies
+//      halfway between the two headings), then expressed in the current frame.
+// The result is a FrameEstimate like the geometric one: the forward direction's vanishing point
+// (pitch and yaw) and the road plane's horizon (roll; HorizonSource::kRoadPlaneMotion).
+//
+// What it needs: texture on the road (lane paint, its dashes' ends, patches, shadows of things
+// that stand still), and motion: a pair whose translation is below `min_translation_over_height`
+// of the camera's height above the road is rejected (too_little_motion): the plane's normal comes
+// from the parallax, which vanishes with the baseline.
+#pragma once
+
+#include "x2car/camera/frame_estimate.hpp"
+#include "x2car/core/camera_model.hpp"
+#include "x2car/core/rotation.hpp"
+
+namespace x2car::camera {
+
+struct RoadPlaneMotionOptions {
+  // Corners looked for in the previous image (Shi-Tomasi), at most this many.
+  int max_features = 800;
+  // Their weakest corner response relative to the strongest (goodFeaturesToTrack's qualityLevel):
+  // low, because asphalt has little contrast.
+  double feature_quality = 0.002;
+  // Corners at least this far apart [px].
+  double min_feature_distance_px = 6.0;
+  // Only below the row that a ray this far below the optical axis meets [rad]: above it, the
+  // road's share of the image shrinks and the background takes over. Mountings pitched up by more
+  // than this see some background in the region; RANSAC drops it.
+  double road_region_depression = rad_from_deg(3.0);
+  // Lucas-Kanade window [px] and pyramid levels (a level halves the image; the flow near the
+  // image's bottom edge reaches tens of pixels per frame).
+  int tracking_window_px = 21;
+  int pyramid_levels = 4;
+  // A track must come back to its start within this when tracked back [px].
+  double max_forward_backward_px = 0.5;
+  // RANSAC's inlier threshold for the homography (in the current image) [px].
+  double ransac_threshold_px = 1.0;
+  // Fewer homography inliers than this: no_road_plane.
+  int min_inliers = 40;
+  // The translation between the frames over the camera's height above the road, |t| / d, below
+  // which the pair is too_little_motion (0.15: 0.2 m at a height of 1.4 m; 2 m/s at 10 Hz).
+  double min_translation_over_height = 0.15;
+  // The frame pair's rotation above which the pair is rejected (no_road_plane) [rad]: beyond it
+  // either the decomposition went wrong or the car turned too hard for the chord to be its heading.
+  double max_rotation = rad_from_deg(3.0);
+  // The road's normal within this angle of the optical frame's +y (down) [rad]: mountings of
+  // +-10 deg and a road's grade stay inside; a wall or a car that fills the view does not.
+  double max_normal_tilt = rad_from_deg(25.0);
+
+  // Throws std::invalid_argument naming the offending field.
+  void Check() const;
+};
+
+// Two frames a short time apart (8 or 16 bit, grey or BGR, the intrinsics' size; `previous`
+// first) -> the current frame's estimate: the car's forward vanishing point and the road plane's
+// horizon, or why not (too_few_tracks, too_little_motion, no_road_plane, wrong_image_size,
+// unreadable_image). Pure: safe to call from several threads at once.
+FrameEstimate estimate_road_plane_motion(const cv::Mat& previous, const cv::Mat& current,
+                                         const core::CameraIntrinsics& intrinsics,
+                                         const RoadPlaneMotionOptions& options = {});
+
+// Steps 3-5 on tracks already made: `previous_px` and `current_px` are distorted pixels of the
+// same road points in the two frames (as many of each).
+FrameEstimate road_plane_from_tracks(const std::vector<Eigen::Vector2d>& previous_px,
+                                     const std::vector<Eigen::Vector2d>& current_px,
+                                     const core::CameraIntrinsics& intrinsics,
+                                     const RoadPlaneMotionOptions& options = {});
+
+// The same behind the PairEstimator interface. Checks the options once (std::invalid_argument).
+PairEstimator make_road_plane_motion_estimator(const RoadPlaneMotionOptions& options = {});
+
+}  // namespace x2car::camera

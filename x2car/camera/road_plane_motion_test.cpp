@@ -1,0 +1,185 @@
+#include "x2car/camera/road_plane_motion.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+#include <random>
+
+#include "x2car/camera/vanishing_rotation.hpp"
+
+namespace x2car::camera {
+namespace {
+
+// R_B_O of DESIGN §1: the optical frame's axes (x right, y down, z forward) in the body frame.
+Eigen::Matrix3d body_from_optical() {
+  Eigen::Matrix3d r;
+  r << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  return r;
+}
+
+// Road points (z = 0 in the car frame at the first pose) seen by a camera mounted at `mounting`
+// from two poses of the car: the first at the origin, the second after an arc of `chord_m` whose
+// heading turned by `turn_rad` (on a circle the chord lies halfway between the two headings).
+struct TwoViews {
+  std::vector<Eigen::Vector2d> previous_px;
+  std::vector<Eigen::Vector2d> current_px;
+};
+
+TwoViews road_in_two_views(const EulerAngles& mounting, const core::CameraIntrinsics& intrinsics,
+                           double chord_m, double turn_rad, double noise_px, std::uint32_t seed,
+                           const Eigen::Vector3d& camera_in_vehicle = {1.8, 0.1, 1.45}) {
+  const Eigen::Matrix3d vehicle_from_optical = rotation_from_euler(mounting) * body_from_optical();
+  const Eigen::Matrix3d second_heading =
+      Eigen::AngleAxisd(turn_rad, Eigen::Vector3d::UnitZ()).matrix();
+  const Eigen::Vector3d second_origin =
+      chord_m * Eigen::Vector3d(std::cos(0.5 * turn_rad), std::sin(0.5 * turn_rad), 0.0);
+  const Eigen::Matrix3d camera_matrix = intrinsics.camera_matrix();
+  const auto project = [&](const Eigen::Matrix3d& world_from_vehicle,
+                           const Eigen::Vector3d& vehicle_origin,
+                           const Eigen::Vector3d& point) -> std::optional<Eigen::Vector2d> {
+    const Eigen::Matrix3d world_from_optical = world_from_vehicle * vehicle_from_optical;
+    const Eigen::Vector3d centre = vehicle_origin + world_from_vehicle * camera_in_vehicle;
+    const Eigen::Vector3d in_optical = world_from_optical.transpose() * (point - centre);
+    if (in_optical.z() < 1.0) return std::nullopt;
+    const Eigen::Vector3d pixel = camera_matrix * (in_optical / in_optical.z());
+    if (pixel.x() < 0 || pixel.y() < 0 || pixel.x() > intrinsics.width - 1 ||
+        pixel.y() > intrinsics.height - 1) {
+      return std::nullopt;
+    }
+    return pixel.head<2>();
+  };
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> along(4.0, 40.0);
+  std::uniform_real_distribution<double> across(-8.0, 8.0);
+  std::normal_distribution<double> noise(0.0, noise_px);
+  TwoViews views;
+  while (views.previous_px.size() < 300) {
+    const Eigen::Vector3d point(along(random), across(random), 0.0);
+    const auto first = project(Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(), point);
+    const auto second = project(second_heading, second_origin, point);
+    if (!first || !second) continue;
+    const Eigen::Vector2d jitter_first(noise(random), noise(random));
+    const Eigen::Vector2d jitter_second(noise(random), noise(random));
+    views.previous_px.push_back(*first + (noise_px > 0 ? jitter_first : Eigen::Vector2d::Zero()));
+    views.current_px.push_back(*second + (noise_px > 0 ? jitter_second : Eigen::Vector2d::Zero()));
+  }
+  return views;
+}
+
+EulerAngles angles_of(const FrameEstimate& estimate, const core::CameraIntrinsics& intrinsics) {
+  const std::optional<EulerAngles> angles = vehicle_from_camera_angles(
+      estimate.road_vanishing_point_px, estimate.horizon_line, intrinsics.camera_matrix());
+  EXPECT_TRUE(angles.has_value());
+  return angles.value_or(EulerAngles{});
+}
+
+TEST(RoadPlaneMotion, RecoversTheMountingFromExactTracksDrivingStraight) {
+  const core::CameraIntrinsics intrinsics;  // the KITTI-like default
+  for (const EulerAngles mounting :
+       {EulerAngles{0.0, 0.0, 0.0},
+        EulerAngles{rad_from_deg(2.0), rad_from_deg(3.0), rad_from_deg(-4.0)},
+        EulerAngles{rad_from_deg(-2.5), rad_from_deg(-1.0), rad_from_deg(3.0)}}) {
+    const TwoViews views = road_in_two_views(mounting, intrinsics, 1.5, 0.0, 0.0, 7);
+    const FrameEstimate estimate =
+        road_plane_from_tracks(views.previous_px, views.current_px, intrinsics);
+    ASSERT_TRUE(estimate.usable()) << to_string(*estimate.rejection);
+    EXPECT_EQ(estimate.horizon_source, HorizonSource::kRoadPlaneMotion);
+    EXPECT_EQ(estimate.road_inliers, 300);
+    const EulerAngles found = angles_of(estimate, intrinsics);
+    EXPECT_NEAR(deg_from_rad(found.roll), deg_from_rad(mounting.roll), 1e-4);
+    EXPECT_NEAR(deg_from_rad(found.pitch), deg_from_rad(mounting.pitch), 1e-4);
+    EXPECT_NEAR(deg_from_rad(found.yaw), deg_from_rad(mounting.yaw), 1e-4);
+  }
+}
+
+// The roll is the road plane's, so the sign check of DESIGN §1 holds for it as for the horizon:
+// a camera rolled left side up reports positive roll.
+TEST(RoadPlaneMotion, RollSignFollowsTheRoadPlane) {
+  const core::CameraIntrinsics intrinsics;
+  const EulerAngles rolled{rad_from_deg(1.0), 0.0, 0.0};
+  const TwoViews views = road_in_two_views(rolled, intrinsics, 1.5, 0.0, 0.0, 3);
+  const FrameEstimate estimate =
+      road_plane_from_tracks(views.previous_px, views.current_px, intrinsics);
+  ASSERT_TRUE(estimate.usable());
+  EXPECT_GT(horizon_angle(estimate.horizon_line), rad_from_deg(0.9));
+  EXPECT_NEAR(deg_from_rad(angles_of(estimate, intrinsics).roll), 1.0, 1e-4);
+}
+
+// In a turn the chord between the frames is half a turn off either heading; the estimator turns
+// it on, so a steady curve does not bias the yaw of a camera above the rear axle (where the car's
+// velocity is along its x axis). Elsewhere the lever arm adds ω × r to the camera's velocity: the
+// calibrator uses the translation's direction only on straight driving (docs/methods.md).
+TEST(RoadPlaneMotion, ATurnBetweenTheFramesDoesNotBiasTheYawAboveTheRearAxle) {
+  const core::CameraIntrinsics intrinsics;
+  const EulerAngles mounting{rad_from_deg(0.5), rad_from_deg(2.0), rad_from_deg(1.0)};
+  for (const double turn_deg : {-1.5, 0.8, 2.0}) {
+    const TwoViews views = road_in_two_views(mounting, intrinsics, 1.2, rad_from_deg(turn_deg), 0.0,
+                                             11, Eigen::Vector3d(0.0, 0.0, 1.45));
+    const FrameEstimate estimate =
+        road_plane_from_tracks(views.previous_px, views.current_px, intrinsics);
+    ASSERT_TRUE(estimate.usable()) << turn_deg;
+    const EulerAngles found = angles_of(estimate, intrinsics);
+    EXPECT_NEAR(deg_from_rad(found.yaw), 1.0, 1e-3) << turn_deg;
+    EXPECT_NEAR(deg_from_rad(found.pitch), 2.0, 1e-3) << turn_deg;
+    EXPECT_NEAR(deg_from_rad(found.roll), 0.5, 1e-3) << turn_deg;
+  }
+}
+
+// Tracks with 0.2 px of noise (Lucas-Kanade on a textured road does about that): one pair's roll
+// within 0.3 deg, pitch and yaw within 0.5 deg; averaging over the paper's windows does the rest.
+TEST(RoadPlaneMotion, NoisyTracksGiveTheMountingToAFewTenthsOfADegree) {
+  const core::CameraIntrinsics intrinsics;
+  const EulerAngles mounting{rad_from_deg(-1.2), rad_from_deg(2.5), rad_from_deg(-2.0)};
+  for (std::uint32_t seed = 1; seed <= 5; ++seed) {
+    const TwoViews views = road_in_two_views(mounting, intrinsics, 1.5, 0.0, 0.2, seed);
+    const FrameEstimate estimate =
+        road_plane_from_tracks(views.previous_px, views.current_px, intrinsics);
+    ASSERT_TRUE(estimate.usable()) << seed;
+    const EulerAngles found = angles_of(estimate, intrinsics);
+    EXPECT_NEAR(deg_from_rad(found.roll), -1.2, 0.3) << seed;
+    EXPECT_NEAR(deg_from_rad(found.pitch), 2.5, 0.5) << seed;
+    EXPECT_NEAR(deg_from_rad(found.yaw), -2.0, 0.5) << seed;
+  }
+}
+
+TEST(RoadPlaneMotion, RejectsTooLittleMotionAndTooFewTracks) {
+  const core::CameraIntrinsics intrinsics;
+  const EulerAngles mounting{0.0, rad_from_deg(1.0), 0.0};
+  const TwoViews standing = road_in_two_views(mounting, intrinsics, 0.05, 0.0, 0.0, 5);
+  const FrameEstimate still =
+      road_plane_from_tracks(standing.previous_px, standing.current_px, intrinsics);
+  ASSERT_FALSE(still.usable());
+  EXPECT_EQ(*still.rejection, FrameRejection::kTooLittleMotion);
+
+  TwoViews few = road_in_two_views(mounting, intrinsics, 1.5, 0.0, 0.0, 5);
+  few.previous_px.resize(12);
+  few.current_px.resize(12);
+  const FrameEstimate sparse = road_plane_from_tracks(few.previous_px, few.current_px, intrinsics);
+  ASSERT_FALSE(sparse.usable());
+  EXPECT_EQ(*sparse.rejection, FrameRejection::kTooFewTracks);
+}
+
+TEST(RoadPlaneMotion, ImagesOfTheWrongSizeOrEmptyAreRejected) {
+  const core::CameraIntrinsics intrinsics;
+  const cv::Mat small(100, 200, CV_8UC1, cv::Scalar(128));
+  EXPECT_EQ(*estimate_road_plane_motion(small, small, intrinsics).rejection,
+            FrameRejection::kWrongImageSize);
+  EXPECT_EQ(*estimate_road_plane_motion(cv::Mat(), small, intrinsics).rejection,
+            FrameRejection::kUnreadableImage);
+  // A featureless road: nothing to track.
+  const cv::Mat flat(intrinsics.height, intrinsics.width, CV_8UC1, cv::Scalar(90));
+  EXPECT_EQ(*estimate_road_plane_motion(flat, flat, intrinsics).rejection,
+            FrameRejection::kTooFewTracks);
+}
+
+TEST(RoadPlaneMotion, OptionsAreChecked) {
+  RoadPlaneMotionOptions options;
+  options.min_inliers = 3;
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+  EXPECT_THROW(make_road_plane_motion_estimator(options), std::invalid_argument);
+  EXPECT_NO_THROW(RoadPlaneMotionOptions().Check());
+}
+
+}  // namespace
+}  // namespace x2car::camera
