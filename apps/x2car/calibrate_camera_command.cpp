@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <optional>
+#include <stdexcept>
 
 #include "apps/x2car/calibration_output.hpp"
 #include "apps/x2car/number_checks.hpp"
@@ -12,6 +13,7 @@
 #include "x2car/camera/camera_calibration.hpp"
 #include "x2car/camera/camera_frames.hpp"
 #include "x2car/camera/ins_motion.hpp"
+#include "x2car/camera/video_frames.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/io/autoware_yaml.hpp"
 #include "x2car/io/camera_info_yaml.hpp"
@@ -30,6 +32,8 @@ struct CalibrateCameraArguments {
   std::string input_path;
   std::string intrinsics_path;
   std::string ins_path;
+  std::string timestamps_path;
+  std::optional<double> frame_rate_hz;
   std::optional<int> camera_index;
   bool unrectified = false;
   std::string estimator;
@@ -59,9 +63,11 @@ core::CameraIntrinsics find_intrinsics(const CalibrateCameraArguments& arguments
     return read_intrinsics(arguments.intrinsics_path, arguments);
   const fs::path input = arguments.input_path;
   const fs::path named = input.filename().empty() ? input.parent_path() : input;
+  // A video's intrinsics lie beside it.
+  const fs::path folder = camera::is_video_file(input) ? input.parent_path() : input;
   for (const fs::path& candidate :
-       {input / "camera" / "intrinsics.yaml", input / "intrinsics.yaml",
-        input / "camera" / "calib_cam_to_cam.txt", input / "calib_cam_to_cam.txt",
+       {folder / "camera" / "intrinsics.yaml", folder / "intrinsics.yaml",
+        folder / "camera" / "calib_cam_to_cam.txt", folder / "calib_cam_to_cam.txt",
         named.parent_path() / "calib_cam_to_cam.txt"}) {
     std::error_code error;
     if (fs::is_regular_file(candidate, error)) return read_intrinsics(candidate, arguments);
@@ -134,12 +140,26 @@ int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
   check_output_arguments(arguments.output,
                          {{{"--input", arguments.input_path}, {"--ins", arguments.ins_path}}});
   const core::CameraIntrinsics intrinsics = find_intrinsics(arguments);
-  const io::ImageFolder folder = io::list_images(arguments.input_path, arguments.camera_index);
-  spdlog::info("found {} images in {} (times from {}; {} other files ignored)",
-               folder.images.size(), folder.folder.string(), folder.time_source,
-               folder.ignored_files);
   camera::CameraCalibrationOptions options = calibration_options(arguments);
-  camera::CameraFrameSource frames = camera::camera_frames_from(folder);
+  io::ImageFolder folder;  // outlives the frames that read from it
+  camera::CameraFrameSource frames;
+  if (camera::is_video_file(arguments.input_path)) {
+    camera::VideoFrameOptions video;
+    if (!arguments.timestamps_path.empty()) video.timestamps = arguments.timestamps_path;
+    video.frame_rate_hz = arguments.frame_rate_hz;
+    frames = camera::camera_frames_from_video(arguments.input_path, video);
+    spdlog::info("found {} frames in {} ({:.1f} s)", frames.times.size(), arguments.input_path,
+                 frames.times.back() - frames.times.front());
+  } else {
+    if (!arguments.timestamps_path.empty() || arguments.frame_rate_hz) {
+      throw std::invalid_argument("--timestamps and --frame-rate are for a video file's --input");
+    }
+    folder = io::list_images(arguments.input_path, arguments.camera_index);
+    spdlog::info("found {} images in {} (times from {}; {} other files ignored)",
+                 folder.images.size(), folder.folder.string(), folder.time_source,
+                 folder.ignored_files);
+    frames = camera::camera_frames_from(folder);
+  }
   if (!arguments.ins_path.empty()) frames.motion = motion_from_log(arguments.ins_path, frames);
   ProgressBar progress("frames", spdlog::should_log(spdlog::level::info));
   options.progress = progress.callback();
@@ -159,9 +179,17 @@ RunCommand setup_calibrate_camera_command(CLI::App& command) {
       .add_option("-i,--input", arguments->input_path,
                   "Folder of images: a drive folder holding camera/images/ and "
                   "camera/timestamps.txt, a KITTI raw drive (image_0X/data/), or images with a "
-                  "timestamps.txt or named by their times")
-      ->type_name("DIR")
+                  "timestamps.txt or named by their times; or a video file (mp4, avi, mkv, mov, "
+                  "webm, m4v)")
+      ->type_name("DIR|VIDEO")
       ->required();
+  command.add_option("--timestamps", arguments->timestamps_path,
+                     "A video's frame times, one per line (seconds or UTC date-times); default: "
+                     "index / frame rate");
+  command
+      .add_option("--frame-rate", arguments->frame_rate_hz,
+                  "A video's frame rate [Hz] when its container has none or a wrong one")
+      ->check(positive_number());
   command
       .add_option("--intrinsics", arguments->intrinsics_path,
                   "ROS camera_info or OpenCV calibration YAML, or a KITTI calib_cam_to_cam.txt "

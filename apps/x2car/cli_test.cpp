@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -706,6 +708,55 @@ TEST(CalibrateCamera, InsLogGatesTurningFrames) {
   EXPECT_EQ(gated.exit_code, 1) << gated.output;
   EXPECT_THAT(gated.output, HasSubstr("24 of 24 frames covered"));
   EXPECT_THAT(io::read_text_file(folder / "result.json"), HasSubstr("\"turning\": 24"));
+}
+
+// A video file is an input like a folder of images: the drive's frames as a Motion-JPEG AVI,
+// times from its frame rate, intrinsics beside it.
+TEST(CalibrateCamera, RecoversTheMountingFromAVideoFile) {
+  const auto folder = write_camera_drive("cli_calibrate_camera_video", 24);
+  // Motion-JPEG keeps an even height: the frames get a 376th row, and so do the intrinsics beside
+  // the video.
+  std::filesystem::create_directories(folder / "video");
+  const auto video = folder / "video" / "drive.avi";
+  core::CameraIntrinsics intrinsics =
+      io::read_camera_info_yaml(folder / "camera" / "intrinsics.yaml");
+  intrinsics.height += intrinsics.height % 2;
+  io::write_camera_info_yaml(folder / "video" / "intrinsics.yaml", intrinsics);
+  cv::VideoWriter writer(video.string(), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 10.0,
+                         cv::Size(intrinsics.width, intrinsics.height), false);
+  ASSERT_TRUE(writer.isOpened());
+  for (int i = 0; i < 24; ++i) {
+    char file[32];
+    std::snprintf(file, sizeof file, "%010d.png", i);
+    cv::Mat frame =
+        cv::imread((folder / "camera" / "images" / file).string(), cv::IMREAD_GRAYSCALE);
+    cv::copyMakeBorder(frame, frame, 0, intrinsics.height - frame.rows, 0, 0, cv::BORDER_REPLICATE);
+    writer.write(frame);
+  }
+  writer.release();
+  const auto json = folder / "video_result.json";
+  const CliRun calibrate = run_x2car("calibrate camera --input " + video.string() +
+                                     " --window-frames 12 --without-series --out " + json.string());
+  ASSERT_EQ(calibrate.exit_code, 0) << calibrate.output;
+  EXPECT_THAT(calibrate.output, HasSubstr("found 24 frames"));
+  EXPECT_THAT(calibrate.output, HasSubstr("video/intrinsics.yaml"));
+  const std::string result = io::read_text_file(json);
+  constexpr double kDegPerRad = 180.0 / M_PI;
+  EXPECT_NEAR(number_after(result, "", "\"pitch_deg\""), 0.05 * kDegPerRad, 0.1) << result;
+  EXPECT_NEAR(number_after(result, "", "\"yaw_deg\""), -0.03 * kDegPerRad, 0.1) << result;
+
+  // --timestamps belongs to a video; a folder given with it is a usage error.
+  const CliRun misused =
+      run_x2car("calibrate camera --input " + folder.string() + " --timestamps " +
+                (folder / "camera" / "timestamps.txt").string());
+  EXPECT_EQ(misused.exit_code, 2) << misused.output;
+  EXPECT_THAT(misused.output, HasSubstr("--timestamps"));
+  // The motion estimator on a scene that does not move: exit 1, the reasons counted.
+  const CliRun motion = run_x2car("calibrate camera --input " + folder.string() +
+                                  " --estimator motion --window-frames 12 --out " +
+                                  (folder / "motion.json").string());
+  EXPECT_EQ(motion.exit_code, 1) << motion.output;
+  EXPECT_THAT(io::read_text_file(folder / "motion.json"), HasSubstr("\"no_previous_frame\": 1"));
 }
 
 TEST(CalibrateCamera, BadInputExitsWithTwoNamingTheFile) {

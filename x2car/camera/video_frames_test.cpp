@@ -1,0 +1,131 @@
+#include "x2car/camera/video_frames.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <opencv2/core.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "x2car/camera/camera_test_support.hpp"
+#include "x2car/core/error.hpp"
+#include "x2car/core/test_matchers.hpp"
+
+namespace x2car::camera {
+namespace {
+
+namespace fs = std::filesystem;
+using x2car::testing::AngleNearDeg;
+
+// A file in this test run's temp folder (TEST_TMPDIR, one per build folder).
+fs::path temp_path(const std::string& name) {
+  const fs::path folder = fs::path(::testing::TempDir()) / "video_frames";
+  fs::create_directories(folder);
+  return folder / name;
+}
+
+const EulerAngles kMounting{rad_from_deg(-1.0), rad_from_deg(2.0), rad_from_deg(1.5)};
+
+// KITTI's camera with an even height: Motion-JPEG keeps whole 2x2 chroma blocks, so OpenCV's
+// writer drops the odd 375th row.
+core::CameraIntrinsics even_kitti() {
+  core::CameraIntrinsics intrinsics = core::camera_preset("kitti");
+  intrinsics.height = 376;
+  return intrinsics;
+}
+
+cv::Mat street_frame(std::size_t index) {
+  testing::StreetScene scene;
+  scene.vehicle_from_camera = kMounting;
+  scene.road_heading = rad_from_deg(0.05) * std::sin(0.07 * static_cast<double>(index));
+  scene.noise_seed = index + 1;
+  return testing::draw_street(scene, even_kitti());
+}
+
+// A Motion-JPEG AVI (OpenCV writes it without any codec library) of `count` street frames.
+fs::path write_street_video(const fs::path& path, std::size_t count, double rate_hz = 10.0) {
+  const core::CameraIntrinsics kitti = even_kitti();
+  cv::VideoWriter writer(path.string(), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), rate_hz,
+                         cv::Size(kitti.width, kitti.height), false);
+  EXPECT_TRUE(writer.isOpened());
+  for (std::size_t i = 0; i < count; ++i) writer.write(street_frame(i));
+  writer.release();
+  return path;
+}
+
+TEST(VideoFrames, TimesFromTheFrameRateAndFramesInAnyOrder) {
+  const fs::path video = write_street_video(temp_path("street.avi"), 12);
+  const CameraFrameSource frames = camera_frames_from_video(video);
+  ASSERT_EQ(frames.times.size(), 12U);
+  EXPECT_DOUBLE_EQ(frames.times[0], 0.0);
+  EXPECT_NEAR(frames.times[11], 1.1, 1e-9);
+  // Forward, back beyond a small cache (reopens), and again: the same pixels each time.
+  VideoFrameOptions small_cache;
+  small_cache.cached_frames = 2;
+  const CameraFrameSource reread = camera_frames_from_video(video, small_cache);
+  const cv::Mat tenth = frames.read(10);
+  EXPECT_EQ(tenth.type(), CV_8UC1);
+  for (const std::size_t index : {10U, 3U, 4U, 11U, 0U, 10U}) {
+    const cv::Mat image = reread.read(index);
+    ASSERT_EQ(image.size(), tenth.size());
+    if (index == 10U) {
+      EXPECT_EQ(cv::norm(image, tenth, cv::NORM_INF), 0.0);
+    }
+  }
+  EXPECT_THROW(reread.read(12), InputError);
+  EXPECT_NE(frames.name(3).find("street.avi frame 3"), std::string::npos);
+}
+
+TEST(VideoFrames, CalibratesLikeTheImages) {
+  const fs::path video = write_street_video(temp_path("drive.avi"), 30);
+  CameraCalibrationOptions options;
+  options.filter.window_frames = 10;
+  const CalibrationResult result =
+      calibrate_camera(camera_frames_from_video(video), even_kitti(), options);
+  ASSERT_TRUE(result.ok()) << result.reason;
+  EXPECT_THAT(*result.roll, AngleNearDeg(kMounting.roll, 0.1));
+  EXPECT_THAT(*result.pitch, AngleNearDeg(kMounting.pitch, 0.1));
+  EXPECT_THAT(*result.yaw, AngleNearDeg(kMounting.yaw, 0.1));
+}
+
+TEST(VideoFrames, TimestampsFileAndFrameRate) {
+  const fs::path video = write_street_video(temp_path("timed.avi"), 3);
+  const fs::path times = temp_path("timed.txt");
+  std::ofstream(times) << "100.0\n100.05\n100.1\n";
+  VideoFrameOptions options;
+  options.timestamps = times;
+  EXPECT_NEAR(camera_frames_from_video(video, options).times[1], 100.05, 1e-9);
+  std::ofstream(times) << "100.0\n100.05\n";
+  try {
+    camera_frames_from_video(video, options);
+    FAIL() << "a timestamps file with too few lines was accepted";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("holds 2 timestamps"), std::string::npos);
+  }
+  VideoFrameOptions rate;
+  rate.frame_rate_hz = 20.0;
+  EXPECT_NEAR(camera_frames_from_video(video, rate).times[2], 0.1, 1e-9);
+  rate.frame_rate_hz = -1.0;
+  EXPECT_THROW(camera_frames_from_video(video, rate), std::invalid_argument);
+}
+
+TEST(VideoFrames, MissingOrBrokenFilesNameTheFile) {
+  const fs::path missing = temp_path("missing.mp4");
+  const fs::path text = temp_path("not_a_video.avi");
+  std::ofstream(text) << "this is not a video\n";
+  for (const fs::path& path : {missing, text}) {
+    try {
+      camera_frames_from_video(path);
+      FAIL() << path;
+    } catch (const InputError& error) {
+      EXPECT_NE(std::string(error.what()).find(path.filename().string()), std::string::npos);
+    }
+  }
+  EXPECT_TRUE(is_video_file("a/b.MP4"));
+  EXPECT_TRUE(is_video_file("drive.mkv"));
+  EXPECT_FALSE(is_video_file("drive"));
+  EXPECT_FALSE(is_video_file("frame.png"));
+}
+
+}  // namespace
+}  // namespace x2car::camera
