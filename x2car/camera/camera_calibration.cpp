@@ -65,8 +65,8 @@ std::optional<VehicleMotion> motion_at(const CameraFrameSource& frames, std::siz
 
 // The estimators a run uses: one of them or both (auto).
 struct Estimators {
-  FrameEstimator single;  // from one image: geometric or the caller's
-  PairEstimator pair;     // from the image and the one before it: motion
+  FrameEstimator single;       // from one image: geometric or the caller's
+  SequenceEstimator sequence;  // from the image and the ones before it: motion
 };
 
 Estimators make_estimators(const CameraCalibrationOptions& options) {
@@ -75,7 +75,7 @@ Estimators make_estimators(const CameraCalibrationOptions& options) {
   if (options.method != CameraMethod::kMotion)
     estimators.single = make_geometric_estimator(options.geometric);
   if (options.method != CameraMethod::kGeometric)
-    estimators.pair = make_road_plane_motion_estimator(options.motion);
+    estimators.sequence = make_road_plane_motion_estimator(options.motion);
   return estimators;
 }
 
@@ -95,24 +95,33 @@ cv::Mat read_frame(const CameraFrameSource& frames, const core::CameraIntrinsics
   return image;
 }
 
-// The motion estimate of frame `index` from it and the frame before (decoded again here: frames
-// are estimated in parallel, in no order).
-FrameEstimate estimate_pair(const CameraFrameSource& frames,
-                            const core::CameraIntrinsics& intrinsics,
-                            const CameraCalibrationOptions& options, const PairEstimator& estimator,
-                            std::size_t index, const cv::Mat& image) {
-  if (index == 0 || frames.times[index] - frames.times[index - 1] > options.max_pair_gap_s) {
-    return rejected_frame(FrameRejection::kNoPreviousFrame);
+// The motion estimate of frame `index` from it and the frames before (decoded again here: frames
+// are estimated in parallel, in no order). Each step between them at most max_pair_gap_s.
+FrameEstimate estimate_sequence(const CameraFrameSource& frames,
+                                const core::CameraIntrinsics& intrinsics,
+                                const CameraCalibrationOptions& options,
+                                const SequenceEstimator& estimator, std::size_t index,
+                                const cv::Mat& image) {
+  const auto span = static_cast<std::size_t>(options.motion.tracked_frames);
+  if (index + 1 < span) return rejected_frame(FrameRejection::kNoPreviousFrame);
+  const std::size_t first = index + 1 - span;
+  for (std::size_t i = first + 1; i <= index; ++i) {
+    if (frames.times[i] - frames.times[i - 1] > options.max_pair_gap_s) {
+      return rejected_frame(FrameRejection::kNoPreviousFrame);
+    }
   }
-  cv::Mat previous;
+  std::vector<cv::Mat> sequence;
+  sequence.reserve(span);
   try {
-    previous = read_frame(frames, intrinsics, index - 1);
+    for (std::size_t i = first; i < index; ++i)
+      sequence.push_back(read_frame(frames, intrinsics, i));
   } catch (const InputError&) {
     // Its own turn in the pipeline reports it (or counts it, with skip_bad_images).
     if (!options.skip_bad_images) throw;
     return rejected_frame(FrameRejection::kNoPreviousFrame);
   }
-  return estimator(previous, image, intrinsics);
+  sequence.push_back(image);
+  return estimator(sequence, intrinsics);
 }
 
 // auto: the lines' vanishing point with the road plane's horizon.
@@ -143,13 +152,15 @@ void estimate_frame(const CameraFrameSource& frames, const core::CameraIntrinsic
     record.read_error = error.what();
     return;
   }
-  if (estimators.single && estimators.pair) {
+  if (estimators.single && estimators.sequence) {
     const FrameEstimate lines = estimators.single(image, intrinsics);
-    record.estimate = lines.usable() ? combine(lines, estimate_pair(frames, intrinsics, options,
-                                                                    estimators.pair, index, image))
-                                     : lines;
-  } else if (estimators.pair) {
-    record.estimate = estimate_pair(frames, intrinsics, options, estimators.pair, index, image);
+    record.estimate = lines.usable()
+                          ? combine(lines, estimate_sequence(frames, intrinsics, options,
+                                                             estimators.sequence, index, image))
+                          : lines;
+  } else if (estimators.sequence) {
+    record.estimate =
+        estimate_sequence(frames, intrinsics, options, estimators.sequence, index, image);
   } else {
     record.estimate = estimators.single(image, intrinsics);
   }

@@ -140,23 +140,25 @@ TEST(CalibrateCamera, BlankFramesAreCountedByReason) {
   EXPECT_EQ(result.rejections.at("too_few_lines"), 4);
 }
 
-// The motion estimator pairs each frame with the one before it: the first frame, and every frame
-// after a gap longer than max_pair_gap_s, has none. The street of these tests stands still (the
+// The motion estimator follows each frame's road back through the frames before it (3 frames in
+// all): the first two frames, and those whose span holds a gap longer than max_pair_gap_s, have
+// too few. The street of these tests stands still (the
 // drawn scene does not move with the car), so the pairs that are made see no travel: a reason for
 // every frame, never a number.
 TEST(CalibrateCamera, MotionPairsFramesAndCountsWhyNot) {
   CameraFrameSource frames = street_drive(6);
-  frames.times[3] += 0.5;  // a gap: frame 3 has no previous frame within 0.25 s
+  frames.times[3] += 0.5;  // a gap between frames 2 and 3: frames 3 and 4 span it
   frames.times[4] += 0.5;
   frames.times[5] += 0.5;
   for (const CameraMethod method : {CameraMethod::kMotion, CameraMethod::kAuto}) {
     CameraCalibrationOptions options = short_windows();
     options.method = method;
+    options.motion.tracked_frames = 3;
     const CalibrationResult result =
         calibrate_camera(frames, core::camera_preset("kitti"), options);
     EXPECT_EQ(result.status, CalibrationStatus::kInsufficientData);
     EXPECT_EQ(result.method, to_string(method));
-    EXPECT_EQ(result.rejections.at("no_previous_frame"), 2) << to_string(method);
+    EXPECT_EQ(result.rejections.at("no_previous_frame"), 4) << to_string(method);
     int counted = 0;
     for (const auto& [reason, count] : result.rejections) counted += static_cast<int>(count);
     EXPECT_EQ(counted, 6) << to_string(method);

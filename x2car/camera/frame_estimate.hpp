@@ -97,9 +97,10 @@ inline FrameEstimate rejected_frame(FrameRejection rejection) {
 using FrameEstimator =
     std::function<FrameEstimate(const cv::Mat& image, const core::CameraIntrinsics& intrinsics)>;
 
-// A per-frame estimator that needs the frame before as well (the motion estimator): the previous
-// image first, then the current one, whose estimate it returns. The same rules as FrameEstimator.
-using PairEstimator = std::function<FrameEstimate(const cv::Mat& previous, const cv::Mat& image,
-                                                  const core::CameraIntrinsics& intrinsics)>;
+// A per-frame estimator that needs the frames before it as well (the motion estimator): the
+// frames oldest first, the current one last, whose estimate it returns. The same rules as
+// FrameEstimator.
+using SequenceEstimator = std::function<FrameEstimate(const std::vector<cv::Mat>& frames,
+                                                      const core::CameraIntrinsics& intrinsics)>;
 
 }  // namespace x2car::camera

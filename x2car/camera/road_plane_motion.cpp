@@ -17,6 +17,7 @@ namespace x2car::camera {
 
 void RoadPlaneMotionOptions::Check() const {
   const OptionsCheck check("RoadPlaneMotionOptions");
+  check.in_range("tracked_frames", tracked_frames, 2, 10);
   check.at_least("max_features", max_features, 8);
   check.in_range("feature_quality", feature_quality, 0.0, 1.0, Bounds::kOpenMin);
   check.positive("min_feature_distance_px", min_feature_distance_px);
@@ -45,20 +46,10 @@ Eigen::Vector3d vector_from_cv(const cv::Mat& vector) {
   return {vector.at<double>(0), vector.at<double>(1), vector.at<double>(2)};
 }
 
-// Step 1: Shi-Tomasi corners below the road region's top row, tracked forward and back.
-void track_road_points(const cv::Mat& previous_grey, const cv::Mat& current_grey,
-                       const core::CameraIntrinsics& intrinsics,
-                       const RoadPlaneMotionOptions& options,
-                       std::vector<Eigen::Vector2d>& previous_px,
-                       std::vector<Eigen::Vector2d>& current_px) {
-  const double top_row = intrinsics.cy + intrinsics.fy * std::tan(options.road_region_depression);
-  const int top = std::clamp(static_cast<int>(std::ceil(top_row)), 0, previous_grey.rows - 1);
-  cv::Mat mask = cv::Mat::zeros(previous_grey.size(), CV_8U);
-  mask.rowRange(top, previous_grey.rows).setTo(255);
-  std::vector<cv::Point2f> corners;
-  cv::goodFeaturesToTrack(previous_grey, corners, options.max_features, options.feature_quality,
-                          options.min_feature_distance_px, mask);
-  if (corners.empty()) return;
+// One Lucas-Kanade step, forward and back: `points` move into `to`; those lost, or not back at
+// their start within max_forward_backward_px, or outside the image, are marked in `alive`.
+void track_step(const cv::Mat& from, const cv::Mat& to, const RoadPlaneMotionOptions& options,
+                std::vector<cv::Point2f>& points, std::vector<unsigned char>& alive) {
   const cv::Size window(options.tracking_window_px, options.tracking_window_px);
   const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01);
   std::vector<cv::Point2f> forward;
@@ -66,22 +57,47 @@ void track_road_points(const cv::Mat& previous_grey, const cv::Mat& current_grey
   std::vector<unsigned char> forward_ok;
   std::vector<unsigned char> back_ok;
   std::vector<float> errors;
-  cv::calcOpticalFlowPyrLK(previous_grey, current_grey, corners, forward, forward_ok, errors,
-                           window, options.pyramid_levels, criteria);
-  cv::calcOpticalFlowPyrLK(current_grey, previous_grey, forward, back, back_ok, errors, window,
+  cv::calcOpticalFlowPyrLK(from, to, points, forward, forward_ok, errors, window,
                            options.pyramid_levels, criteria);
+  cv::calcOpticalFlowPyrLK(to, from, forward, back, back_ok, errors, window, options.pyramid_levels,
+                           criteria);
   const double max_miss_squared = options.max_forward_backward_px * options.max_forward_backward_px;
-  for (std::size_t i = 0; i < corners.size(); ++i) {
-    if (!forward_ok[i] || !back_ok[i]) continue;
-    const cv::Point2f miss = back[i] - corners[i];
-    if (miss.dot(miss) > max_miss_squared) continue;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const cv::Point2f miss = back[i] - points[i];
     const cv::Point2f& p = forward[i];
-    if (p.x < 0.0f || p.y < 0.0f || p.x > static_cast<float>(current_grey.cols - 1) ||
-        p.y > static_cast<float>(current_grey.rows - 1)) {
-      continue;
+    if (!forward_ok[i] || !back_ok[i] || miss.dot(miss) > max_miss_squared || p.x < 0.0f ||
+        p.y < 0.0f || p.x > static_cast<float>(to.cols - 1) ||
+        p.y > static_cast<float>(to.rows - 1)) {
+      alive[i] = 0;
     }
-    previous_px.emplace_back(corners[i].x, corners[i].y);
-    current_px.emplace_back(p.x, p.y);
+    points[i] = p;
+  }
+}
+
+// Step 1: Shi-Tomasi corners below the road region's top row in the oldest frame, tracked frame by
+// frame into the current one.
+void track_road_points(const std::vector<cv::Mat>& greys, const core::CameraIntrinsics& intrinsics,
+                       const RoadPlaneMotionOptions& options,
+                       std::vector<Eigen::Vector2d>& oldest_px,
+                       std::vector<Eigen::Vector2d>& current_px) {
+  const cv::Mat& oldest = greys.front();
+  const double top_row = intrinsics.cy + intrinsics.fy * std::tan(options.road_region_depression);
+  const int top = std::clamp(static_cast<int>(std::ceil(top_row)), 0, oldest.rows - 1);
+  cv::Mat mask = cv::Mat::zeros(oldest.size(), CV_8U);
+  mask.rowRange(top, oldest.rows).setTo(255);
+  std::vector<cv::Point2f> corners;
+  cv::goodFeaturesToTrack(oldest, corners, options.max_features, options.feature_quality,
+                          options.min_feature_distance_px, mask);
+  if (corners.empty()) return;
+  std::vector<cv::Point2f> points = corners;
+  std::vector<unsigned char> alive(points.size(), 1);
+  for (std::size_t k = 1; k < greys.size(); ++k) {
+    track_step(greys[k - 1], greys[k], options, points, alive);
+  }
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    if (!alive[i]) continue;
+    oldest_px.emplace_back(corners[i].x, corners[i].y);
+    current_px.emplace_back(points[i].x, points[i].y);
   }
 }
 
@@ -209,27 +225,29 @@ FrameEstimate road_plane_from_tracks(const std::vector<Eigen::Vector2d>& previou
   return estimate;
 }
 
-FrameEstimate estimate_road_plane_motion(const cv::Mat& previous, const cv::Mat& current,
+FrameEstimate estimate_road_plane_motion(const std::vector<cv::Mat>& frames,
                                          const core::CameraIntrinsics& intrinsics,
                                          const RoadPlaneMotionOptions& options) {
-  if (previous.empty() || current.empty()) return rejected_frame(FrameRejection::kUnreadableImage);
-  for (const cv::Mat* image : {&previous, &current}) {
-    if (image->cols != intrinsics.width || image->rows != intrinsics.height) {
+  if (frames.size() < 2) return rejected_frame(FrameRejection::kNoPreviousFrame);
+  std::vector<cv::Mat> greys;
+  greys.reserve(frames.size());
+  for (const cv::Mat& image : frames) {
+    if (image.empty()) return rejected_frame(FrameRejection::kUnreadableImage);
+    if (image.cols != intrinsics.width || image.rows != intrinsics.height) {
       return rejected_frame(FrameRejection::kWrongImageSize);
     }
+    greys.push_back(grey_8bit(image));
   }
-  std::vector<Eigen::Vector2d> previous_px;
+  std::vector<Eigen::Vector2d> oldest_px;
   std::vector<Eigen::Vector2d> current_px;
-  track_road_points(grey_8bit(previous), grey_8bit(current), intrinsics, options, previous_px,
-                    current_px);
-  return road_plane_from_tracks(previous_px, current_px, intrinsics, options);
+  track_road_points(greys, intrinsics, options, oldest_px, current_px);
+  return road_plane_from_tracks(oldest_px, current_px, intrinsics, options);
 }
 
-PairEstimator make_road_plane_motion_estimator(const RoadPlaneMotionOptions& options) {
+SequenceEstimator make_road_plane_motion_estimator(const RoadPlaneMotionOptions& options) {
   options.Check();
-  return [options](const cv::Mat& previous, const cv::Mat& current,
-                   const core::CameraIntrinsics& intrinsics) {
-    return estimate_road_plane_motion(previous, current, intrinsics, options);
+  return [options](const std::vector<cv::Mat>& frames, const core::CameraIntrinsics& intrinsics) {
+    return estimate_road_plane_motion(frames, intrinsics, options);
   };
 }
 

@@ -1,5 +1,5 @@
-// The motion estimator (issue 14 item 2): the road plane and the car's travel from two consecutive
-// frames, so that the horizon is the road's, not gravity's.
+// The motion estimator (issue 14 item 2): the road plane and the car's travel from a few
+// consecutive frames, so that the horizon is the road's, not gravity's.
 //
 // The vertical vanishing point of the geometric estimator gives gravity's horizon; on a road with
 // crossfall the car leans against gravity, and that lean enters the roll (docs/methods.md, camera
@@ -9,10 +9,12 @@
 //   x2 ~ H x1,   H = R + t n^T / d                                   (Hartley & Zisserman, 13.1)
 //
 // (x the normalised image points, R and t the camera's motion X2 = R X1 + t, n the plane's unit
-// normal and d its distance, n^T X1 = d, in the first camera's optical frame). So, per frame pair:
-//   1. corners (Shi-Tomasi) in the lower part of the previous image, where the road is, tracked
-//      into the current one by pyramidal Lucas-Kanade, forward and back (a track that does not
-//      come back to its start within `max_forward_backward_px` is dropped);
+// normal and d its distance, n^T X1 = d, in the first camera's optical frame). So, per frame, with
+// the `tracked_frames` - 1 frames before it:
+//   1. corners (Shi-Tomasi) in the lower part of the oldest image, where the road is, tracked
+//      frame by frame into the current one by pyramidal Lucas-Kanade, forward and back (a track
+//      that does not come back to its start within `max_forward_backward_px` is dropped): the
+//      steps stay small for the tracker while the baseline, and so the parallax, grows;
 //   2. the tracks undistorted (core::undistort_pixel) and normalised by K;
 //   3. the plane's homography by RANSAC (the points not on the road: kerbs, sidewalks, cars, are
 //      its outliers), refined by least squares on the inliers (OpenCV findHomography);
@@ -30,6 +32,8 @@
 // from the parallax, which vanishes with the baseline.
 #pragma once
 
+#include <vector>
+
 #include "x2car/camera/frame_estimate.hpp"
 #include "x2car/core/camera_model.hpp"
 #include "x2car/core/rotation.hpp"
@@ -37,7 +41,11 @@
 namespace x2car::camera {
 
 struct RoadPlaneMotionOptions {
-  // Corners looked for in the previous image (Shi-Tomasi), at most this many.
+  // Frames a track runs through, the current one included (2: a frame and the one before). The
+  // road's parallax grows with the baseline, but a longer track is lost more often: on the
+  // simulator's rendered road 3 frames kept a fifth of the frames 2 did (docs/methods.md).
+  int tracked_frames = 2;
+  // Corners looked for in the oldest image (Shi-Tomasi), at most this many.
   int max_features = 800;
   // Their weakest corner response relative to the strongest (goodFeaturesToTrack's qualityLevel):
   // low, because asphalt has little contrast.
@@ -61,8 +69,9 @@ struct RoadPlaneMotionOptions {
   // The translation between the frames over the camera's height above the road, |t| / d, below
   // which the pair is too_little_motion (0.15: 0.2 m at a height of 1.4 m; 2 m/s at 10 Hz).
   double min_translation_over_height = 0.15;
-  // The frame pair's rotation above which the pair is rejected (no_road_plane) [rad]: beyond it
-  // either the decomposition went wrong or the car turned too hard for the chord to be its heading.
+  // The rotation between the oldest and the current frame above which the frame is rejected
+  // (no_road_plane) [rad]: beyond it either the decomposition went wrong or the car turned too
+  // hard for the chord to be its heading.
   double max_rotation = rad_from_deg(3.0);
   // The road's normal within this angle of the optical frame's +y (down) [rad]: mountings of
   // +-10 deg and a road's grade stay inside; a wall or a car that fills the view does not.
@@ -72,22 +81,22 @@ struct RoadPlaneMotionOptions {
   void Check() const;
 };
 
-// Two frames a short time apart (8 or 16 bit, grey or BGR, the intrinsics' size; `previous`
-// first) -> the current frame's estimate: the car's forward vanishing point and the road plane's
-// horizon, or why not (too_few_tracks, too_little_motion, no_road_plane, wrong_image_size,
-// unreadable_image). Pure: safe to call from several threads at once.
-FrameEstimate estimate_road_plane_motion(const cv::Mat& previous, const cv::Mat& current,
+// Frames a short time apart, oldest first, the current one last (8 or 16 bit, grey or BGR, the
+// intrinsics' size; at least two) -> the current frame's estimate: the car's forward vanishing
+// point and the road plane's horizon, or why not (too_few_tracks, too_little_motion,
+// no_road_plane, wrong_image_size, unreadable_image). Pure: safe to call from several threads.
+FrameEstimate estimate_road_plane_motion(const std::vector<cv::Mat>& frames,
                                          const core::CameraIntrinsics& intrinsics,
                                          const RoadPlaneMotionOptions& options = {});
 
-// Steps 3-5 on tracks already made: `previous_px` and `current_px` are distorted pixels of the
-// same road points in the two frames (as many of each).
+// Steps 2-5 on tracks already made: `previous_px` (in the oldest frame) and `current_px` are
+// distorted pixels of the same road points (as many of each).
 FrameEstimate road_plane_from_tracks(const std::vector<Eigen::Vector2d>& previous_px,
                                      const std::vector<Eigen::Vector2d>& current_px,
                                      const core::CameraIntrinsics& intrinsics,
                                      const RoadPlaneMotionOptions& options = {});
 
-// The same behind the PairEstimator interface. Checks the options once (std::invalid_argument).
-PairEstimator make_road_plane_motion_estimator(const RoadPlaneMotionOptions& options = {});
+// The same behind the SequenceEstimator interface. Checks the options once (std::invalid_argument).
+SequenceEstimator make_road_plane_motion_estimator(const RoadPlaneMotionOptions& options = {});
 
 }  // namespace x2car::camera

@@ -163,13 +163,13 @@ TEST(RoadPlaneMotion, RejectsTooLittleMotionAndTooFewTracks) {
 TEST(RoadPlaneMotion, ImagesOfTheWrongSizeOrEmptyAreRejected) {
   const core::CameraIntrinsics intrinsics;
   const cv::Mat small(100, 200, CV_8UC1, cv::Scalar(128));
-  EXPECT_EQ(*estimate_road_plane_motion(small, small, intrinsics).rejection,
+  EXPECT_EQ(*estimate_road_plane_motion({small, small}, intrinsics).rejection,
             FrameRejection::kWrongImageSize);
-  EXPECT_EQ(*estimate_road_plane_motion(cv::Mat(), small, intrinsics).rejection,
+  EXPECT_EQ(*estimate_road_plane_motion({cv::Mat(), small}, intrinsics).rejection,
             FrameRejection::kUnreadableImage);
   // A featureless road: nothing to track.
   const cv::Mat flat(intrinsics.height, intrinsics.width, CV_8UC1, cv::Scalar(90));
-  EXPECT_EQ(*estimate_road_plane_motion(flat, flat, intrinsics).rejection,
+  EXPECT_EQ(*estimate_road_plane_motion({flat, flat, flat}, intrinsics).rejection,
             FrameRejection::kTooFewTracks);
 }
 
