@@ -25,8 +25,13 @@ constexpr std::array kCalibrators = {
                &setup_calibrate_radar_command},
     Subcommand{"camera",
                "camera -> car: roll, pitch and yaw from the road's vanishing point and the "
-               "horizon in steady stretches, from a folder of images and the intrinsics",
+               "horizon in steady stretches, from a folder of images or a video and the "
+               "intrinsics",
                &setup_calibrate_camera_command},
+    Subcommand{"all",
+               "every sensor of a drive folder (ins/, lidar*/, radar*/, camera*/), each by its "
+               "own command; one JSON, YAML and URDF for all, and a table against the truth",
+               &setup_calibrate_all_command},
 };
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
@@ -19,6 +20,7 @@
 
 #include "x2car/camera/camera_test_support.hpp"
 #include "x2car/io/camera_info_yaml.hpp"
+#include "x2car/io/result_json.hpp"
 #include "x2car/io/text_lines.hpp"
 
 namespace x2car::cli {
@@ -779,6 +781,90 @@ TEST(CalibrateCamera, BadInputExitsWithTwoNamingTheFile) {
   const CliRun missing = run_x2car("calibrate camera --input " + folder.string());
   EXPECT_EQ(missing.exit_code, 2) << missing.output;
   EXPECT_THAT(missing.output, HasSubstr("give --intrinsics"));
+}
+
+// calibrate all: every sensor of a simulated drive by its own command, one JSON keyed by sensor
+// whose parts are the single commands' results, and the YAML and URDF of every sensor.
+TEST(CalibrateAll, EverySensorAsItsOwnCommandGives) {
+  const auto folder = std::filesystem::path(::testing::TempDir()) / "cli_calibrate_all";
+  std::filesystem::remove_all(folder);
+  ASSERT_EQ(run_x2car("simulate --scenario urban --duration 40 --seed 4 --sensors ins,radar "
+                      "--out " +
+                      folder.string())
+                .exit_code,
+            0);
+  const auto all_json = folder / "all.json";
+  const CliRun all =
+      run_x2car("calibrate all --input " + folder.string() +
+                " --reproducible --without-series --out " + all_json.string() + " --yaml " +
+                (folder / "all.yaml").string() + " --urdf " + (folder / "all.urdf").string());
+  ASSERT_EQ(all.exit_code, 0) << all.output;
+  // The table against the truth: each estimated angle with its error in parentheses.
+  EXPECT_THAT(all.output, HasSubstr("(in parentheses: the error against ground_truth.yaml)"));
+  EXPECT_THAT(all.output, ::testing::ContainsRegex("radar +ok .*\\([-+]0\\.0"));
+
+  const CliRun radar =
+      run_x2car("calibrate radar --input " + (folder / "radar").string() + " --ins " +
+                (folder / "ins" / "novatel_enu.csv").string() +
+                " --reproducible --without-series --out " + (folder / "radar.json").string());
+  ASSERT_EQ(radar.exit_code, 0) << radar.output;
+  const auto combined = io::Json::parse(io::read_text_file(all_json));
+  EXPECT_EQ(combined.at("radar").dump(2),
+            io::Json::parse(io::read_text_file(folder / "radar.json")).dump(2));
+  EXPECT_EQ(combined.at("ins").at("status"), "ok");
+  const std::string yaml = io::read_text_file(folder / "all.yaml");
+  EXPECT_THAT(yaml, HasSubstr("  ins:"));
+  EXPECT_THAT(yaml, HasSubstr("  radar:"));
+  EXPECT_THAT(io::read_text_file(folder / "all.urdf"), HasSubstr("<child link=\"radar\"/>"));
+}
+
+// A sensor with too little data: exit 1, and the others are still written.
+TEST(CalibrateAll, PartialSuccessExitsWithOneAndWritesTheRest) {
+  const auto folder = write_camera_drive("cli_calibrate_all_partial", 24);
+  const auto ins_drive = std::filesystem::path(::testing::TempDir()) / "cli_calibrate_all_ins";
+  std::filesystem::remove_all(ins_drive);
+  ASSERT_EQ(run_x2car("simulate --scenario urban --duration 60 --seed 5 --sensors ins --out " +
+                      ins_drive.string())
+                .exit_code,
+            0);
+  std::filesystem::create_directories(folder / "ins");
+  std::filesystem::copy_file(ins_drive / "ins" / "novatel_enu.csv",
+                             folder / "ins" / "novatel_enu.csv");
+  const CliRun run =
+      run_x2car("calibrate all --input " + folder.string() + " --out " +
+                (folder / "all.json").string() + " --yaml " + (folder / "all.yaml").string());
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  const auto combined = io::Json::parse(io::read_text_file(folder / "all.json"));
+  EXPECT_EQ(combined.at("ins").at("status"), "ok");
+  EXPECT_EQ(combined.at("camera").at("status"), "insufficient_data");
+  const std::string yaml = io::read_text_file(folder / "all.yaml");
+  EXPECT_THAT(yaml, HasSubstr("  ins:"));
+  EXPECT_THAT(yaml, Not(HasSubstr("  camera:")));
+
+  // No sensor calibrated: exit 1, the JSON written, no YAML (there is no mounting to write).
+  std::filesystem::remove_all(folder / "ins");
+  std::filesystem::remove(folder / "all.yaml");
+  const CliRun none =
+      run_x2car("calibrate all --input " + folder.string() + " --out " +
+                (folder / "none.json").string() + " --yaml " + (folder / "all.yaml").string());
+  EXPECT_EQ(none.exit_code, 1) << none.output;
+  EXPECT_THAT(none.output, HasSubstr("no sensor calibrated"));
+  EXPECT_FALSE(std::filesystem::exists(folder / "all.yaml"));
+}
+
+TEST(CalibrateAll, BadFoldersExitWithTwoNamingThePath) {
+  const auto empty = std::filesystem::path(::testing::TempDir()) / "cli_calibrate_all_empty";
+  std::filesystem::remove_all(empty);
+  std::filesystem::create_directories(empty / "notes");
+  const CliRun none = run_x2car("calibrate all --input " + empty.string());
+  EXPECT_EQ(none.exit_code, 2) << none.output;
+  EXPECT_THAT(none.output, HasSubstr("holds no sensor folder"));
+  // A radar without the car's motion.
+  std::filesystem::create_directories(empty / "radar_left");
+  const CliRun radar = run_x2car("calibrate all --input " + empty.string());
+  EXPECT_EQ(radar.exit_code, 2) << radar.output;
+  EXPECT_THAT(radar.output, HasSubstr("radar_left"));
+  EXPECT_THAT(radar.output, HasSubstr("no ins/novatel_enu.csv"));
 }
 
 }  // namespace
