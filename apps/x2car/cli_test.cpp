@@ -816,6 +816,16 @@ TEST(CalibrateAll, EverySensorAsItsOwnCommandGives) {
   EXPECT_THAT(yaml, HasSubstr("  ins:"));
   EXPECT_THAT(yaml, HasSubstr("  radar:"));
   EXPECT_THAT(io::read_text_file(folder / "all.urdf"), HasSubstr("<child link=\"radar\"/>"));
+
+  // convert reads the file back: the sensor picked by --child, into every form.
+  const CliRun convert =
+      run_x2car("convert --input " + all_json.string() + " --child radar --to all");
+  ASSERT_EQ(convert.exit_code, 0) << convert.output;
+  EXPECT_THAT(convert.output, HasSubstr("base_link from radar"));
+  EXPECT_THAT(convert.output, HasSubstr("autoware:"));
+  const CliRun which = run_x2car("convert --input " + all_json.string());
+  EXPECT_EQ(which.exit_code, 2) << which.output;
+  EXPECT_THAT(which.output, HasSubstr("pick one with --child"));
 }
 
 // A sensor with too little data: exit 1, and the others are still written.

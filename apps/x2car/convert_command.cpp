@@ -26,6 +26,8 @@ struct ConvertArguments {
 };
 
 constexpr const char* kSourceOnCommandLine = "the command line";
+// --from's name for a result JSON of `calibrate` (an input form only; auto recognises it).
+constexpr const char* kResultForm = "result";
 
 std::string read_source_text(const ConvertArguments& arguments) {
   if (!arguments.values.empty() && !arguments.input_path.empty()) {
@@ -104,8 +106,18 @@ int run_convert(const ConvertArguments& arguments) {
   const std::string source_name =
       arguments.input_path.empty() ? kSourceOnCommandLine : arguments.input_path;
   const std::string text = read_source_text(arguments);
-  const io::ExtrinsicFormat format = resolve_input_format(arguments.from, text, source_name);
-  Extrinsic extrinsic = parse_input(text, format, arguments, source_name);
+  Extrinsic extrinsic;
+  if (arguments.from == kResultForm ||
+      (arguments.from == "auto" && io::looks_like_result_json(text))) {
+    // A result of `calibrate`: --child picks the sensor of a `calibrate all` file.
+    const std::optional<std::string> sensor =
+        arguments.child_frame.empty() ? std::nullopt : std::optional(arguments.child_frame);
+    extrinsic = io::extrinsic_from_result_json(text, source_name, sensor);
+    if (!arguments.parent_frame.empty()) extrinsic.parent_frame = arguments.parent_frame;
+  } else {
+    const io::ExtrinsicFormat format = resolve_input_format(arguments.from, text, source_name);
+    extrinsic = parse_input(text, format, arguments, source_name);
+  }
   if (arguments.invert) extrinsic = inverse(extrinsic);
   const std::string output = render_output(extrinsic, arguments.to);
   if (arguments.output_path.empty()) {
@@ -124,6 +136,7 @@ RunCommand setup_convert_command(CLI::App& command) {
   std::vector<std::string> format_names = io::extrinsic_format_names();
   std::vector<std::string> from_names = format_names;
   from_names.insert(from_names.begin(), "auto");
+  from_names.emplace_back(kResultForm);
   std::vector<std::string> to_names = format_names;
   to_names.insert(to_names.begin(), "all");
 
@@ -135,7 +148,9 @@ RunCommand setup_convert_command(CLI::App& command) {
       .add_option("-i,--input", arguments->input_path, "Read the extrinsic from FILE ('-': stdin)")
       ->type_name("FILE");
   command
-      .add_option("--from", arguments->from, "Form of the input; auto recognises all but xyzrpy")
+      .add_option("--from", arguments->from,
+                  "Form of the input; auto recognises all but xyzrpy (result: a JSON of calibrate, "
+                  "one sensor or all)")
       ->type_name("FORM")
       ->check(CLI::IsMember(from_names))
       ->capture_default_str();

@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
+#include <nlohmann/json.hpp>
 #include <span>
 #include <stdexcept>
 #include <utility>
@@ -10,6 +12,7 @@
 #include "x2car/core/enum_names.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/core/rotation.hpp"
+#include "x2car/io/result_json.hpp"
 #include "x2car/io/text_lines.hpp"
 
 namespace x2car::io {
@@ -367,6 +370,52 @@ std::string format_result_reference(const CalibrationResult& result) {
   const Extrinsic extrinsic = extrinsic_from_result(result);
   const std::string note = unestimated_note(result);
   return (note.empty() ? "" : "# " + note + "\n") + format_reference(extrinsic);
+}
+
+bool looks_like_result_json(std::string_view text) {
+  const std::size_t first = text.find_first_not_of(" \t\r\n");
+  if (first == std::string_view::npos || text[first] != '{') return false;
+  const Json json = Json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (!json.is_object()) return false;
+  if (json.contains("status")) return true;
+  return std::ranges::any_of(json.items(), [](const auto& item) {
+    return item.value().is_object() && item.value().contains("status");
+  });
+}
+
+Extrinsic extrinsic_from_result_json(std::string_view text, const std::string& source_name,
+                                     const std::optional<std::string>& sensor) {
+  const Json json = Json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (!json.is_object()) throw InputError(source_name, "is not a JSON object (a result file)");
+  std::string name;
+  const Json* entry = &json;
+  if (!json.contains("status")) {
+    std::vector<std::string> names;
+    for (const auto& item : json.items()) names.push_back(item.key());
+    if (sensor) {
+      if (!json.contains(*sensor)) {
+        throw InputError(source_name,
+                         fmt::format("holds no sensor '{}'; it holds: {}", *sensor, join(names)));
+      }
+      name = *sensor;
+    } else if (names.size() == 1) {
+      name = names.front();
+    } else {
+      throw InputError(source_name,
+                       fmt::format("holds the results of several sensors ({}): pick one with "
+                                   "--child",
+                                   join(names)));
+    }
+    entry = &json.at(name);
+  }
+  const CalibrationResult result = result_from_json(*entry, source_name);
+  if (name.empty()) name = sensor.value_or(result.sensor);
+  if (!result.ok()) {
+    throw InputError(source_name, fmt::format("the result of {} is {}: there is no mounting to "
+                                              "convert ({})",
+                                              name, to_string(result.status), result.reason));
+  }
+  return extrinsic_from_result(result, "base_link", name);
 }
 
 }  // namespace x2car::io

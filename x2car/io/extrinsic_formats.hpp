@@ -98,4 +98,16 @@ std::string format_result_urdf(const CalibrationResult& result,
                                const std::string& child_frame = {});
 std::string format_result_reference(const CalibrationResult& result);
 
+// A result JSON (io/result_json.hpp) as text: one sensor's object, or `calibrate all`'s object
+// keyed by sensor. Recognised by its first character '{' and a "status" key at the top or one
+// level down.
+bool looks_like_result_json(std::string_view text);
+
+// Its vehicle_from_sensor as extrinsic_from_result gives it (unestimated parts 0). From a keyed
+// object, `sensor` picks the entry (needed when it holds several); the child frame is the entry's
+// key, or the result's "sensor". InputError naming the source when the text is not a result, the
+// sensor is missing or not chosen, or its status is not ok (there is no mounting to give).
+Extrinsic extrinsic_from_result_json(std::string_view text, const std::string& source_name,
+                                     const std::optional<std::string>& sensor = std::nullopt);
+
 }  // namespace x2car::io

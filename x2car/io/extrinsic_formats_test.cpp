@@ -13,6 +13,7 @@
 #include "x2car/core/error.hpp"
 #include "x2car/core/rotation.hpp"
 #include "x2car/io/extrinsic_test_support.hpp"
+#include "x2car/io/result_json.hpp"
 
 namespace x2car::io {
 namespace {
@@ -285,6 +286,61 @@ TEST(ResultWriters, InsufficientDataIsAnErrorNotAZeroRotation) {
   EXPECT_THROW(format_result_autoware(result), std::invalid_argument);
   EXPECT_THROW(format_result_urdf(result), std::invalid_argument);
   EXPECT_THROW(format_result_reference(result), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace x2car::io
+
+namespace x2car::io {
+namespace {
+
+CalibrationResult ok_yaw_pitch_result(const std::string& sensor) {
+  CalibrationResult result;
+  result.sensor = sensor;
+  result.status = CalibrationStatus::kOk;
+  result.pitch = rad_from_deg(1.0);
+  result.yaw = rad_from_deg(-2.0);
+  return result;
+}
+
+// A result JSON converts to the extrinsic its own writer gives, and `calibrate all`'s keyed file
+// gives each sensor's by name.
+TEST(ResultJsonExtrinsic, OneSensorOrAllKeyedBySensor) {
+  const CalibrationResult ins = ok_yaw_pitch_result("ins");
+  const std::string one = format_result_json(ins);
+  ASSERT_TRUE(looks_like_result_json(one));
+  const Extrinsic from_one = extrinsic_from_result_json(one, "ins.json");
+  EXPECT_EQ(from_one.child_frame, "ins");
+  EXPECT_TRUE(from_one.parent_from_child.isApprox(extrinsic_from_result(ins).parent_from_child));
+
+  CalibrationResult radar = ok_yaw_pitch_result("radar");
+  radar.pitch.reset();
+  radar.yaw = rad_from_deg(91.0);
+  const std::string all =
+      "{\"ins\": " + one + ", \"radar_left\": " + format_result_json(radar) + "}";
+  ASSERT_TRUE(looks_like_result_json(all));
+  const Extrinsic left = extrinsic_from_result_json(all, "all.json", "radar_left");
+  EXPECT_EQ(left.child_frame, "radar_left");
+  EXPECT_NEAR(euler_from_rotation(left.parent_from_child.linear()).yaw, rad_from_deg(91.0), 1e-12);
+  EXPECT_THROW(extrinsic_from_result_json(all, "all.json"), InputError);  // which one?
+  EXPECT_THROW(extrinsic_from_result_json(all, "all.json", "lidar"), InputError);
+
+  EXPECT_FALSE(looks_like_result_json("1 2 3 4 5 6"));
+  EXPECT_FALSE(looks_like_result_json("{\"base_link\": {\"x\": 1}}"));
+}
+
+TEST(ResultJsonExtrinsic, AResultWithoutAMountingIsRefused) {
+  CalibrationResult failed;
+  failed.sensor = "lidar";
+  failed.status = CalibrationStatus::kInsufficientData;
+  failed.reason = "only 3 sweeps";
+  try {
+    extrinsic_from_result_json(format_result_json(failed), "lidar.json");
+    FAIL() << "a result without a mounting converted";
+  } catch (const InputError& error) {
+    EXPECT_THAT(error.what(), ::testing::HasSubstr("insufficient_data"));
+    EXPECT_THAT(error.what(), ::testing::HasSubstr("lidar.json"));
+  }
 }
 
 }  // namespace
