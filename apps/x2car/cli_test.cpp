@@ -877,5 +877,44 @@ TEST(CalibrateAll, BadFoldersExitWithTwoNamingThePath) {
   EXPECT_THAT(radar.output, HasSubstr("no ins/novatel_enu.csv"));
 }
 
+// eval: the paper's protocol on a simulated drive: the whole log and each minute, their spread,
+// the errors against the truth; a sensor the folder lacks is an input error naming it.
+TEST(Eval, SegmentsOfAMinuteAgainstTheTruth) {
+  const auto folder = std::filesystem::path(::testing::TempDir()) / "cli_eval";
+  std::filesystem::remove_all(folder);
+  ASSERT_EQ(run_x2car("simulate --scenario urban --duration 130 --seed 6 --sensors ins,radar "
+                      "--out " +
+                      folder.string())
+                .exit_code,
+            0);
+  const auto json = std::filesystem::path(::testing::TempDir()) / "cli_eval.json";
+  const CliRun eval = run_x2car("eval --input " + folder.string() + " --out " + json.string());
+  ASSERT_EQ(eval.exit_code, 0) << eval.output;
+  EXPECT_THAT(eval.output, HasSubstr("== ins: 2 segments"));
+  EXPECT_THAT(eval.output, HasSubstr("== radar: 2 segments"));
+  EXPECT_THAT(eval.output, HasSubstr("(error: the whole log's estimate minus ground_truth.yaml)"));
+  const auto result = io::Json::parse(io::read_text_file(json));
+  ASSERT_EQ(result.at("radar").at("segments").size(), 2U);  // 60 + 60; the last 10 s dropped
+  EXPECT_EQ(result.at("radar").at("segments").at(1).at("start_s").get<double>() -
+                result.at("radar").at("segments").at(0).at("start_s").get<double>(),
+            60.0);
+  // Each minute's radar yaw is within 0.2 deg of the truth (the whole log's is the bench's).
+  const std::string truth = io::read_text_file(folder / "ground_truth.yaml");
+  const double true_yaw_deg = number_after(truth, "vehicle_from_radar:", "yaw") * 180.0 / M_PI;
+  for (const auto& segment : result.at("radar").at("segments")) {
+    ASSERT_EQ(segment.at("result").at("status"), "ok") << segment.dump();
+    EXPECT_NEAR(segment.at("result").at("yaw_deg").get<double>(), true_yaw_deg, 0.2);
+  }
+  EXPECT_EQ(result.at("ins").at("summary").at("with_estimate"), 2);
+
+  const CliRun one = run_x2car("eval --input " + folder.string() + " --sensor ins --segment 40");
+  EXPECT_EQ(one.exit_code, 0) << one.output;
+  EXPECT_THAT(one.output, HasSubstr("== ins: 3 segments"));
+  EXPECT_THAT(one.output, Not(HasSubstr("== radar")));
+  const CliRun missing = run_x2car("eval --input " + folder.string() + " --sensor lidar");
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_THAT(missing.output, HasSubstr("no sensor 'lidar'; the folder holds: ins, radar"));
+}
+
 }  // namespace
 }  // namespace x2car::cli

@@ -17,8 +17,12 @@ std::span<const Subcommand> subcommand_table() {
                  &setup_simulate_command},
       Subcommand{"calibrate",
                  "Find a sensor's mounting (rotation to the car body) from a drive: calibrate "
-                 "ins|lidar|radar",
+                 "ins|lidar|radar|camera|all",
                  &setup_calibrate_command},
+      Subcommand{"eval",
+                 "The paper's protocol: calibrate a drive folder's sensors on every minute, the "
+                 "spread of the estimates and their errors against the truth",
+                 &setup_eval_command},
   };
   return kSubcommands;
 }
