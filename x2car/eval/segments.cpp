@@ -12,7 +12,7 @@ namespace x2car::eval {
 void SegmentOptions::Check() const {
   const OptionsCheck check("SegmentOptions");
   check.positive("segment_s", segment_s);
-  check.non_negative("min_last_segment_s", min_last_segment_s);
+  check.in_range("min_last_share", min_last_share, 0.0, 1.0);
   check.in_range("max_straight_heading_range", max_straight_heading_range, 0.0, kPi,
                  Bounds::kOpenMin);
 }
@@ -25,7 +25,9 @@ std::vector<TimeSpan> cut_into_segments(double start_s, double end_s,
   for (double begin = start_s; begin < end_s; begin += options.segment_s) {
     const double end = std::min(begin + options.segment_s, end_s);
     const bool whole = end - begin >= options.segment_s - 1e-9;
-    if (whole || end - begin >= options.min_last_segment_s) spans.push_back({begin, end});
+    if (whole || end - begin >= options.min_last_share * options.segment_s) {
+      spans.push_back({begin, end});
+    }
     if (!whole) break;
   }
   return spans;

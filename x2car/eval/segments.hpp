@@ -17,8 +17,9 @@ namespace x2car::eval {
 
 struct SegmentOptions {
   double segment_s = 60.0;  // the paper's minute
-  // A last piece shorter than this is dropped (it would be a segment of another kind) [s].
-  double min_last_segment_s = 30.0;
+  // A last piece shorter than this share of segment_s is dropped (it would be a segment of
+  // another kind): with 0.5, a 119.9 s log gives two minutes, a 100 s log one.
+  double min_last_share = 0.5;
   // A segment is "straight" when the car's heading stays within this range over it [rad]: the
   // paper reports its spread over straight driving separately, as turns change what is observed.
   double max_straight_heading_range = rad_from_deg(10.0);
@@ -34,7 +35,7 @@ struct TimeSpan {
 };
 
 // [start, end) cut into segments of segment_s from the start; the last piece kept when it is at
-// least min_last_segment_s long. Empty when the log is shorter than that.
+// least min_last_share of a segment long. Empty when the log is shorter than that.
 std::vector<TimeSpan> cut_into_segments(double start_s, double end_s,
                                         const SegmentOptions& options = {});
 
