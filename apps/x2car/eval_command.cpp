@@ -121,12 +121,12 @@ SensorEval eval_lidar(const io::DriveSensor& sensor, std::span<const io::InsReco
   return result;
 }
 
-std::optional<EulerAngles> true_angles(const std::optional<io::GroundTruth>& truth,
-                                       const std::string& name) {
+std::optional<io::SensorMounting> true_mounting(const std::optional<io::GroundTruth>& truth,
+                                                const std::string& name) {
   if (!truth) return std::nullopt;
   const auto found = truth->vehicle_from_sensor.find(name);
   if (found == truth->vehicle_from_sensor.end()) return std::nullopt;
-  return found->second.rotation;
+  return found->second;
 }
 
 std::string degrees(const std::optional<double>& radians, const char* format = "{:.3f}") {
@@ -135,7 +135,9 @@ std::string degrees(const std::optional<double>& radians, const char* format = "
 
 // The Table III-style lines of one sensor.
 std::string format_sensor_table(const SensorEval& run, const eval::SegmentSummary& summary,
-                                const std::optional<EulerAngles>& truth) {
+                                const std::optional<io::SensorMounting>& mounting) {
+  const std::optional<EulerAngles> truth =
+      mounting ? std::optional(mounting->rotation) : std::nullopt;
   std::string text = fmt::format(
       "== {}: {} segments, {} gave an estimate ({:.0f} %), {:.2f} s per segment; whole log: {}\n",
       run.sensor.name, summary.segments, summary.with_estimate,
@@ -169,6 +171,28 @@ std::string format_sensor_table(const SensorEval& run, const eval::SegmentSummar
   row("roll", run.whole.roll, summary.roll, &EulerAngles::roll);
   row("pitch", run.whole.pitch, summary.pitch, &EulerAngles::pitch);
   row("yaw", run.whole.yaw, summary.yaw, &EulerAngles::yaw);
+  // The LiDAR's height above the road [m], as the paper's Table III has it.
+  if (run.whole.z || summary.z.count > 0) {
+    const auto metres = [](const std::optional<double>& value, const char* format = "{:.4f}") {
+      return value ? fmt::format(fmt::runtime(format), *value) : std::string("—");
+    };
+    std::optional<double> error;
+    std::optional<double> worst;
+    if (mounting) {
+      const double true_z = mounting->translation.z();
+      if (run.whole.z) error = *run.whole.z - true_z;
+      for (const eval::SegmentResult& segment : run.segments) {
+        if (!segment.result.ok() || !segment.result.z) continue;
+        worst = std::max(worst.value_or(0.0), std::abs(*segment.result.z - true_z));
+      }
+    }
+    text += fmt::format(
+        "{:<6} {:>10} {:>10} {:>12} {:>12} {:>14} {:>14}\n", "z [m]", metres(run.whole.z),
+        metres(error, "{:+.4f}"), fmt::format("{} of {}", summary.z.count, summary.segments),
+        metres(summary.z.std_all),
+        fmt::format("{} ({})", metres(summary.z.std_straight), summary.z.straight_count),
+        metres(worst));
+  }
   return text;
 }
 
@@ -199,7 +223,13 @@ io::Json sensor_json(const SensorEval& run, const eval::SegmentSummary& summary)
             {"seconds_per_segment", summary.mean_seconds},
             {"roll", spread_json(summary.roll)},
             {"pitch", spread_json(summary.pitch)},
-            {"yaw", spread_json(summary.yaw)}}},
+            {"yaw", spread_json(summary.yaw)},
+            {"z_m",
+             {{"segments", summary.z.count},
+              {"mean", summary.z.mean ? io::Json(*summary.z.mean) : io::Json(nullptr)},
+              {"std", summary.z.std_all ? io::Json(*summary.z.std_all) : io::Json(nullptr)},
+              {"std_straight",
+               summary.z.std_straight ? io::Json(*summary.z.std_straight) : io::Json(nullptr)}}}}},
           {"segments", segments}};
 }
 
@@ -255,7 +285,7 @@ int run_eval(const EvalArguments& arguments) {
   bool every_whole_ok = true;
   for (const SensorEval& run : runs) {
     const eval::SegmentSummary summary = eval::summarise_segments(run.segments);
-    std::cout << format_sensor_table(run, summary, true_angles(truth, run.sensor.name)) << "\n";
+    std::cout << format_sensor_table(run, summary, true_mounting(truth, run.sensor.name)) << "\n";
     all[run.sensor.name] = sensor_json(run, summary);
     every_whole_ok = every_whole_ok && run.whole.ok();
   }
