@@ -7,19 +7,16 @@
 #include <stdexcept>
 
 #include "apps/x2car/calibration_output.hpp"
+#include "apps/x2car/camera_inputs.hpp"
 #include "apps/x2car/number_checks.hpp"
 #include "apps/x2car/progress_bar.hpp"
 #include "apps/x2car/subcommand.hpp"
 #include "x2car/camera/camera_calibration.hpp"
 #include "x2car/camera/camera_frames.hpp"
-#include "x2car/camera/ins_motion.hpp"
 #include "x2car/camera/video_frames.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/io/autoware_yaml.hpp"
-#include "x2car/io/camera_info_yaml.hpp"
 #include "x2car/io/image_folder.hpp"
-#include "x2car/io/ins_log.hpp"
-#include "x2car/io/kitti_calib_cam.hpp"
 #include "x2car/io/text_lines.hpp"
 #include "x2car/io/urdf_joint.hpp"
 
@@ -43,39 +40,6 @@ struct CalibrateCameraArguments {
   OutputArguments output;
 };
 
-bool is_kitti_calib(const fs::path& path) { return path.extension() == ".txt"; }
-
-core::CameraIntrinsics read_intrinsics(const fs::path& path,
-                                       const CalibrateCameraArguments& arguments) {
-  spdlog::info("intrinsics from {}", path.string());
-  if (is_kitti_calib(path)) {
-    return io::read_kitti_calib_cam(
-        path, arguments.camera_index.value_or(2),
-        arguments.unrectified ? io::KittiImages::kUnrectified : io::KittiImages::kRectified);
-  }
-  return io::read_camera_info_yaml(path);
-}
-
-// --intrinsics, else the drive's camera/intrinsics.yaml, else a KITTI calib_cam_to_cam.txt in the
-// input folder or the folder above it (KITTI raw keeps it beside the drives of a day).
-core::CameraIntrinsics find_intrinsics(const CalibrateCameraArguments& arguments) {
-  if (!arguments.intrinsics_path.empty())
-    return read_intrinsics(arguments.intrinsics_path, arguments);
-  const fs::path input = arguments.input_path;
-  const fs::path named = input.filename().empty() ? input.parent_path() : input;
-  // A video's intrinsics lie beside it.
-  const fs::path folder = camera::is_video_file(input) ? input.parent_path() : input;
-  for (const fs::path& candidate :
-       {folder / "camera" / "intrinsics.yaml", folder / "intrinsics.yaml",
-        folder / "camera" / "calib_cam_to_cam.txt", folder / "calib_cam_to_cam.txt",
-        named.parent_path() / "calib_cam_to_cam.txt"}) {
-    std::error_code error;
-    if (fs::is_regular_file(candidate, error)) return read_intrinsics(candidate, arguments);
-  }
-  throw InputError(arguments.input_path, 0, "intrinsics",
-                   "no camera/intrinsics.yaml or calib_cam_to_cam.txt found; give --intrinsics");
-}
-
 camera::CameraCalibrationOptions calibration_options(const CalibrateCameraArguments& arguments) {
   camera::CameraCalibrationOptions options;
   if (!arguments.estimator.empty()) {
@@ -88,25 +52,6 @@ camera::CameraCalibrationOptions calibration_options(const CalibrateCameraArgume
   options.skip_bad_images = arguments.skip_bad_images;
   options.keep_series = !arguments.output.without_series;
   return options;
-}
-
-// The car's speed and yaw rate at each frame from a GNSS/INS log. Frames stamped in Unix time
-// (KITTI raw, the simulator) meet a log with absolute times on the Unix clock; otherwise both are
-// taken to share one clock.
-std::vector<std::optional<camera::VehicleMotion>> motion_from_log(
-    const std::string& path, const camera::CameraFrameSource& frames) {
-  const io::InsLog log = io::read_ins_log(path);
-  camera::InsMotionOptions options;
-  const bool unix_frames = !frames.times.empty() && frames.times.front() > 1e8;
-  if (unix_frames && log.start_unix_time) options.ins_to_frame_offset_s = *log.start_unix_time;
-  std::vector<std::optional<camera::VehicleMotion>> motion =
-      camera::motion_from_ins(frames.times, log.records, options);
-  const auto covered = std::ranges::count_if(motion, [](const auto& m) { return m.has_value(); });
-  spdlog::info("motion from {}: {} of {} frames covered", path, covered, motion.size());
-  if (covered == 0) {
-    throw InputError(path, 0, "time", "the log covers none of the frames' times (another clock?)");
-  }
-  return motion;
 }
 
 // The optical frame (x right, y down, z forward; DESIGN §1) beside camera_link in --yaml and
@@ -139,7 +84,9 @@ void write_optical_frame(const CalibrationResult& result, const OutputArguments&
 int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
   check_output_arguments(arguments.output,
                          {{{"--input", arguments.input_path}, {"--ins", arguments.ins_path}}});
-  const core::CameraIntrinsics intrinsics = find_intrinsics(arguments);
+  const core::CameraIntrinsics intrinsics = find_camera_intrinsics(
+      arguments.input_path,
+      {arguments.intrinsics_path, arguments.camera_index, arguments.unrectified});
   camera::CameraCalibrationOptions options = calibration_options(arguments);
   io::ImageFolder folder;  // outlives the frames that read from it
   camera::CameraFrameSource frames;
@@ -160,7 +107,8 @@ int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
                  folder.ignored_files);
     frames = camera::camera_frames_from(folder);
   }
-  if (!arguments.ins_path.empty()) frames.motion = motion_from_log(arguments.ins_path, frames);
+  if (!arguments.ins_path.empty())
+    frames.motion = camera_motion_from_log(arguments.ins_path, frames);
   ProgressBar progress("frames", spdlog::should_log(spdlog::level::info));
   options.progress = progress.callback();
   const CalibrationResult result = camera::calibrate_camera(frames, intrinsics, options);

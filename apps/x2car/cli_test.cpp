@@ -914,6 +914,16 @@ TEST(Eval, SegmentsOfAMinuteAgainstTheTruth) {
   const CliRun missing = run_x2car("eval --input " + folder.string() + " --sensor lidar");
   EXPECT_EQ(missing.exit_code, 2) << missing.output;
   EXPECT_THAT(missing.output, HasSubstr("no sensor 'lidar'; the folder holds: ins, radar"));
+
+  // A camera's segments: 24 frames (10 to 12.3 s) in segments of a second, each too short for the
+  // paper's window: counted, no estimate, exit 1 (its whole log has none either).
+  const auto camera_drive = write_camera_drive("cli_eval_camera", 24);
+  std::filesystem::copy(camera_drive / "camera", folder / "camera",
+                        std::filesystem::copy_options::recursive);
+  const CliRun camera =
+      run_x2car("eval --input " + folder.string() + " --sensor camera --segment 1");
+  EXPECT_EQ(camera.exit_code, 1) << camera.output;
+  EXPECT_THAT(camera.output, HasSubstr("== camera: 2 segments, 0 gave an estimate"));
 }
 
 }  // namespace

@@ -1,0 +1,68 @@
+#include "apps/x2car/camera_inputs.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <filesystem>
+
+#include "x2car/camera/ins_motion.hpp"
+#include "x2car/camera/video_frames.hpp"
+#include "x2car/core/error.hpp"
+#include "x2car/io/camera_info_yaml.hpp"
+#include "x2car/io/ins_log.hpp"
+#include "x2car/io/kitti_calib_cam.hpp"
+
+namespace x2car::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool is_kitti_calib(const fs::path& path) { return path.extension() == ".txt"; }
+
+core::CameraIntrinsics read_intrinsics(const fs::path& path, const IntrinsicsSource& source) {
+  spdlog::info("intrinsics from {}", path.string());
+  if (is_kitti_calib(path)) {
+    return io::read_kitti_calib_cam(
+        path, source.camera_index.value_or(2),
+        source.unrectified ? io::KittiImages::kUnrectified : io::KittiImages::kRectified);
+  }
+  return io::read_camera_info_yaml(path);
+}
+
+}  // namespace
+
+core::CameraIntrinsics find_camera_intrinsics(const std::string& input_path,
+                                              const IntrinsicsSource& source) {
+  if (!source.intrinsics_path.empty()) return read_intrinsics(source.intrinsics_path, source);
+  const fs::path input = input_path;
+  const fs::path named = input.filename().empty() ? input.parent_path() : input;
+  // A video's intrinsics lie beside it.
+  const fs::path folder = camera::is_video_file(input) ? input.parent_path() : input;
+  for (const fs::path& candidate :
+       {folder / "camera" / "intrinsics.yaml", folder / "intrinsics.yaml",
+        folder / "camera" / "calib_cam_to_cam.txt", folder / "calib_cam_to_cam.txt",
+        named.parent_path() / "calib_cam_to_cam.txt"}) {
+    std::error_code error;
+    if (fs::is_regular_file(candidate, error)) return read_intrinsics(candidate, source);
+  }
+  throw InputError(input_path, 0, "intrinsics",
+                   "no camera/intrinsics.yaml or calib_cam_to_cam.txt found; give --intrinsics");
+}
+
+std::vector<std::optional<camera::VehicleMotion>> camera_motion_from_log(
+    const std::string& path, const camera::CameraFrameSource& frames) {
+  const io::InsLog log = io::read_ins_log(path);
+  camera::InsMotionOptions options;
+  const bool unix_frames = !frames.times.empty() && frames.times.front() > 1e8;
+  if (unix_frames && log.start_unix_time) options.ins_to_frame_offset_s = *log.start_unix_time;
+  std::vector<std::optional<camera::VehicleMotion>> motion =
+      camera::motion_from_ins(frames.times, log.records, options);
+  const auto covered = std::ranges::count_if(motion, [](const auto& m) { return m.has_value(); });
+  spdlog::info("motion from {}: {} of {} frames covered", path, covered, motion.size());
+  if (covered == 0) {
+    throw InputError(path, 0, "time", "the log covers none of the frames' times (another clock?)");
+  }
+  return motion;
+}
+
+}  // namespace x2car::cli
