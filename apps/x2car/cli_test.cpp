@@ -828,6 +828,46 @@ TEST(CalibrateAll, EverySensorAsItsOwnCommandGives) {
   EXPECT_THAT(which.output, HasSubstr("pick one with --child"));
 }
 
+// A user's own layout: x2car.yaml names each sensor's type, input and options.
+TEST(CalibrateAll, AManifestDescribesAUsersLayout) {
+  const auto drive =
+      std::filesystem::path(::testing::TempDir()) / "cli_calibrate_all_manifest_drive";
+  std::filesystem::remove_all(drive);
+  ASSERT_EQ(run_x2car("simulate --scenario urban --duration 40 --seed 7 --sensors ins,radar_left "
+                      "--out " +
+                      drive.string())
+                .exit_code,
+            0);
+  const auto folder = std::filesystem::path(::testing::TempDir()) / "cli_calibrate_all_manifest";
+  std::filesystem::remove_all(folder);
+  std::filesystem::create_directories(folder / "logs");
+  std::filesystem::copy_file(drive / "ins" / "novatel_enu.csv", folder / "logs" / "gnss.csv");
+  std::filesystem::copy(drive / "radar_left", folder / "logs" / "left",
+                        std::filesystem::copy_options::recursive);
+  const std::string truth = io::read_text_file(drive / "ground_truth.yaml");
+  const double x = number_after(truth, "vehicle_from_radar_left:", "x");
+  const double y = number_after(truth, "vehicle_from_radar_left:", "y");
+  io::write_text_file(folder / "x2car.yaml",
+                      "sensors:\n  gnss: {type: ins, input: logs/gnss.csv}\n  left: {type: radar, "
+                      "input: logs/left, lever_arm: [" +
+                          std::to_string(x) + ", " + std::to_string(y) +
+                          "], nominal_yaw_deg: 90}\n");
+  const auto json = std::filesystem::path(::testing::TempDir()) / "cli_calibrate_all_manifest.json";
+  const CliRun run =
+      run_x2car("calibrate all --input " + folder.string() + " --out " + json.string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const auto result = io::Json::parse(io::read_text_file(json));
+  EXPECT_EQ(result.at("gnss").at("status"), "ok");
+  const double true_yaw_deg = number_after(truth, "vehicle_from_radar_left:", "yaw") * 180.0 / M_PI;
+  EXPECT_NEAR(result.at("left").at("yaw_deg").get<double>(), true_yaw_deg, 0.2);
+
+  // A wrong path names its key.
+  io::write_text_file(folder / "x2car.yaml", "sensors:\n  gnss: {type: ins, input: gnss.csv}\n");
+  const CliRun bad = run_x2car("calibrate all --input " + folder.string());
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_THAT(bad.output, HasSubstr("sensors.gnss.input"));
+}
+
 // A sensor with too little data: exit 1, and the others are still written.
 TEST(CalibrateAll, PartialSuccessExitsWithOneAndWritesTheRest) {
   const auto folder = write_camera_drive("cli_calibrate_all_partial", 24);

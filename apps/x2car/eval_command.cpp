@@ -20,6 +20,7 @@
 #include "apps/x2car/output_paths.hpp"
 #include "apps/x2car/subcommand.hpp"
 #include "x2car/camera/camera_frames.hpp"
+#include "x2car/camera/video_frames.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/eval/segments.hpp"
 #include "x2car/ins/ins_calibration.hpp"
@@ -86,7 +87,15 @@ SensorEval eval_radar(const io::DriveSensor& sensor, const io::InsLog& ins_log,
       radar::radar_to_ins_time_offset(radar_log.start_unix_time, ins_log.start_unix_time);
   std::vector<io::RadarDetection> detections = radar_log.detections;
   for (io::RadarDetection& detection : detections) detection.time += offset_s;
-  const radar::RadarCalibrationOptions calibration;
+  // With what a manifest says of the radar, as `calibrate all` runs it.
+  radar::RadarCalibrationOptions calibration;
+  if (sensor.lever_arm_m) {
+    calibration.lever_arm_in_vehicle =
+        Eigen::Vector2d((*sensor.lever_arm_m)[0], (*sensor.lever_arm_m)[1]);
+  }
+  if (sensor.nominal_yaw_deg) {
+    calibration.velocity.nominal_yaw = rad_from_deg(*sensor.nominal_yaw_deg);
+  }
   SensorEval result{sensor, radar::calibrate_radar(detections, ins_log.records, calibration), {}};
   if (detections.empty()) return result;
   result.segments = eval::calibrate_segments(
@@ -130,10 +139,18 @@ SensorEval eval_lidar(const io::DriveSensor& sensor, std::span<const io::InsReco
 SensorEval eval_camera(const io::DriveSensor& sensor, const std::optional<fs::path>& ins_path,
                        const std::optional<io::InsLog>& ins_log,
                        const eval::SegmentOptions& options) {
+  IntrinsicsSource intrinsics_source;
+  if (sensor.intrinsics) intrinsics_source.intrinsics_path = sensor.intrinsics->string();
   const core::CameraIntrinsics intrinsics =
-      find_camera_intrinsics(sensor.input.string(), IntrinsicsSource{});
-  const io::ImageFolder folder = io::list_images(sensor.input);
-  camera::CameraFrameSource source = camera::camera_frames_from(folder);
+      find_camera_intrinsics(sensor.input.string(), intrinsics_source);
+  io::ImageFolder folder;  // outlives the frames that read from it
+  camera::CameraFrameSource source;
+  if (camera::is_video_file(sensor.input)) {
+    source = camera::camera_frames_from_video(sensor.input);
+  } else {
+    folder = io::list_images(sensor.input);
+    source = camera::camera_frames_from(folder);
+  }
   if (ins_path) source.motion = camera_motion_from_log(ins_path->string(), source);
   camera::CameraCalibrationOptions calibration;
   calibration.keep_series = false;

@@ -1,9 +1,15 @@
 #include "x2car/io/drive_folder.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <cctype>
+#include <cmath>
 #include <system_error>
 
 #include "x2car/core/error.hpp"
+#include "x2car/io/text_lines.hpp"
+#include "x2car/io/yaml_util.hpp"
 
 namespace x2car::io {
 namespace {
@@ -28,6 +34,9 @@ DriveFolder find_drive_sensors(const fs::path& root) {
   if (!fs::is_directory(root, error)) {
     throw InputError(root.string(), "is not a folder (a drive folder as x2car simulate writes)");
   }
+  if (fs::is_regular_file(root / kDriveManifestName, error)) {
+    return read_drive_manifest(root / kDriveManifestName);
+  }
   DriveFolder drive;
   drive.root = root;
   for (const fs::directory_entry& entry : fs::directory_iterator(root, error)) {
@@ -42,9 +51,9 @@ DriveFolder find_drive_sensors(const fs::path& root) {
         throw InputError(entry.path().string(), "holds no novatel_enu.csv (the GNSS/INS log)");
       }
       drive.ins_log = log;
-      drive.sensors.push_back({name, *kind, log});
+      drive.sensors.push_back({name, *kind, log, {}, {}, {}});
     } else {
-      drive.sensors.push_back({name, *kind, entry.path()});
+      drive.sensors.push_back({name, *kind, entry.path(), {}, {}, {}});
     }
   }
   if (error) throw InputError(root.string(), "cannot list the folder: " + error.message());
@@ -58,6 +67,140 @@ DriveFolder find_drive_sensors(const fs::path& root) {
   const fs::path truth = root / "ground_truth.yaml";
   if (fs::is_regular_file(truth, error)) drive.ground_truth = truth;
   return drive;
+}
+
+namespace {
+
+// The keys a sensor of each type may have besides `type` and `input`.
+bool key_fits(SensorKind kind, const std::string& key) {
+  if (key == "type" || key == "input") return true;
+  if (key == "intrinsics") return kind == SensorKind::kCamera;
+  if (key == "lever_arm" || key == "nominal_yaw_deg") return kind == SensorKind::kRadar;
+  return false;
+}
+
+double number_at(const YAML::Node& node, const std::string& source, const std::string& key) {
+  try {
+    const double value = node.as<double>();
+    if (std::isfinite(value)) return value;
+  } catch (const YAML::Exception&) {
+  }
+  throw InputError(source, yaml_line(node), key, "expected a finite number");
+}
+
+DriveFolder read_drive_manifest_checked(const fs::path& manifest) {
+  const std::string source = manifest.string();
+  const YAML::Node root = load_yaml_mapping(read_text_file(manifest), source);
+  const fs::path base = manifest.parent_path();
+  const auto existing = [&](const YAML::Node& node, const std::string& key) {
+    if (!node.IsScalar()) throw InputError(source, yaml_line(node), key, "expected a path");
+    const fs::path path = base / node.as<std::string>();
+    std::error_code error;
+    if (!fs::exists(path, error)) {
+      throw InputError(source, yaml_line(node), key,
+                       fmt::format("{} does not exist", path.string()));
+    }
+    return path;
+  };
+  DriveFolder drive;
+  drive.root = base;
+  for (const auto& entry : root) {
+    const std::string key = entry.first.as<std::string>();
+    if (key != "sensors" && key != "ground_truth") {
+      throw InputError(source, yaml_line(entry.first), key,
+                       "unknown key (the manifest has `sensors` and `ground_truth`)");
+    }
+  }
+  const YAML::Node sensors = root["sensors"];
+  if (!sensors || !sensors.IsMap() || sensors.size() == 0) {
+    throw InputError(source, sensors ? yaml_line(sensors) : 0, "sensors",
+                     "expected a mapping of sensor names to {type, input, ...}");
+  }
+  std::vector<std::string> ins_names;
+  for (const auto& entry : sensors) {
+    const std::string name = entry.first.as<std::string>();
+    const std::string prefix = "sensors." + name;
+    const YAML::Node& fields = entry.second;
+    if (name.empty() || !std::ranges::all_of(name, [](char c) {
+          return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_';
+        })) {
+      throw InputError(source, yaml_line(entry.first), prefix,
+                       "a sensor's name is its frame's: letters, digits and _ only");
+    }
+    if (!fields.IsMap()) {
+      throw InputError(source, yaml_line(fields), prefix, "expected {type, input, ...}");
+    }
+    const YAML::Node type = fields["type"];
+    if (!type || !type.IsScalar()) {
+      throw InputError(source, yaml_line(fields), prefix + ".type",
+                       "missing: one of ins, lidar, radar, camera");
+    }
+    const std::optional<SensorKind> kind = [&]() -> std::optional<SensorKind> {
+      for (const EnumName<SensorKind>& known : kSensorKindNames) {
+        if (type.as<std::string>() == known.name) return known.value;
+      }
+      return std::nullopt;
+    }();
+    if (!kind) {
+      throw InputError(source, yaml_line(type), prefix + ".type",
+                       fmt::format("unknown type '{}': one of ins, lidar, radar, camera",
+                                   type.as<std::string>()));
+    }
+    for (const auto& field : fields) {
+      const std::string field_name = field.first.as<std::string>();
+      if (!key_fits(*kind, field_name)) {
+        throw InputError(source, yaml_line(field.first), prefix + "." + field_name,
+                         fmt::format("not a key of a sensor of type {}", to_string(*kind)));
+      }
+    }
+    const YAML::Node input = fields["input"];
+    if (!input) throw InputError(source, yaml_line(fields), prefix + ".input", "missing");
+    DriveSensor sensor{name, *kind, existing(input, prefix + ".input"), {}, {}, {}};
+    if (const YAML::Node intrinsics = fields["intrinsics"]) {
+      sensor.intrinsics = existing(intrinsics, prefix + ".intrinsics");
+    }
+    if (const YAML::Node lever = fields["lever_arm"]) {
+      if (!lever.IsSequence() || lever.size() != 2) {
+        throw InputError(source, yaml_line(lever), prefix + ".lever_arm", "expected [x, y] in m");
+      }
+      sensor.lever_arm_m =
+          std::array<double, 2>{number_at(lever[0], source, prefix + ".lever_arm"),
+                                number_at(lever[1], source, prefix + ".lever_arm")};
+    }
+    if (const YAML::Node yaw = fields["nominal_yaw_deg"]) {
+      sensor.nominal_yaw_deg = number_at(yaw, source, prefix + ".nominal_yaw_deg");
+    }
+    if (*kind == SensorKind::kIns) {
+      ins_names.push_back(name);
+      drive.ins_log = sensor.input;
+    }
+    drive.sensors.push_back(std::move(sensor));
+  }
+  if (ins_names.size() > 1) {
+    throw InputError(source, yaml_line(sensors), "sensors",
+                     fmt::format("two GNSS/INS sensors ({}): the radars and cameras take the car's "
+                                 "motion from one; describe one",
+                                 join(ins_names)));
+  }
+  if (const YAML::Node truth = root["ground_truth"]) {
+    drive.ground_truth = existing(truth, "ground_truth");
+  }
+  std::ranges::stable_sort(
+      drive.sensors, [](const DriveSensor& a, const DriveSensor& b) { return a.kind < b.kind; });
+  return drive;
+}
+
+}  // namespace
+
+DriveFolder read_drive_manifest(const fs::path& manifest) {
+  // A shape yaml-cpp cannot convert (a key that is a list, a null key) is the file's error, not
+  // x2car's: InputError, never an escaped YAML::Exception.
+  try {
+    return read_drive_manifest_checked(manifest);
+  } catch (const YAML::Exception& error) {
+    throw InputError(manifest.string(), yaml_line(error.mark), "",
+                     std::string("not a manifest x2car reads: ") + error.msg);
+  }
 }
 
 }  // namespace x2car::io

@@ -9,6 +9,15 @@
 //   DIR/ground_truth.yaml                     the simulator's truth, when present
 //
 // Other entries are ignored. The sensor's name is its folder's: the child frame of its results.
+//
+// A user's own log is described by a manifest instead, DIR/x2car.yaml (docs/formats.md):
+//   sensors:
+//     gnss:         {type: ins, input: gnss/novatel_enu.csv}
+//     lidar_top:    {type: lidar, input: lidar_top}
+//     radar_left:   {type: radar, input: radar/left, lever_arm: [3.2, 0.8], nominal_yaw_deg: 90}
+//     camera_front: {type: camera, input: front.mp4, intrinsics: front_camera_info.yaml}
+//   ground_truth: ground_truth.yaml        (optional)
+// Paths are relative to the manifest's folder.
 #pragma once
 
 #include <array>
@@ -35,18 +44,31 @@ inline const char* to_string(SensorKind kind) { return enum_to_string(kSensorKin
 struct DriveSensor {
   std::string name;  // the folder's name: "ins", "lidar", "radar_front", ...
   SensorKind kind = SensorKind::kIns;
-  std::filesystem::path input;  // the INS log file, or the sensor's folder
+  std::filesystem::path input;  // the INS log file, or the sensor's folder (or a video)
+  // From a manifest only:
+  std::optional<std::filesystem::path> intrinsics;   // a camera's
+  std::optional<std::array<double, 2>> lever_arm_m;  // a radar's x y on the car [m]
+  std::optional<double> nominal_yaw_deg;             // a radar's yaw as designed [deg]
 };
 
 struct DriveFolder {
   std::filesystem::path root;
   std::vector<DriveSensor> sensors;  // INS first, then LiDARs, radars, cameras, each by name
-  std::optional<std::filesystem::path> ins_log;       // DIR/ins/novatel_enu.csv when present
+  std::optional<std::filesystem::path> ins_log;  // the GNSS/INS sensor's log, when there is one
   std::optional<std::filesystem::path> ground_truth;  // DIR/ground_truth.yaml when present
 };
 
+// DIR/x2car.yaml when the folder has one (read_drive_manifest), else the folder's layout.
 // InputError naming the folder when it is missing, not a folder, or holds no sensor; naming
 // DIR/ins when it has no novatel_enu.csv.
 DriveFolder find_drive_sensors(const std::filesystem::path& root);
+
+// A manifest. InputError naming the file, the line and the key (e.g. "sensors.radar_left.input")
+// when it is not YAML, lacks `sensors`, a sensor lacks `type` or `input`, a type is unknown, an
+// input or intrinsics file does not exist, a key is unknown (a typo), a key does not belong to the
+// sensor's type, or two sensors are GNSS/INS (the radars and cameras take their motion from one).
+DriveFolder read_drive_manifest(const std::filesystem::path& manifest);
+
+constexpr const char* kDriveManifestName = "x2car.yaml";
 
 }  // namespace x2car::io
