@@ -9,7 +9,9 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <iostream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -18,6 +20,7 @@
 #include "apps/x2car/camera_inputs.hpp"
 #include "apps/x2car/exit_codes.hpp"
 #include "apps/x2car/output_paths.hpp"
+#include "apps/x2car/progress_bar.hpp"
 #include "apps/x2car/subcommand.hpp"
 #include "x2car/camera/camera_frames.hpp"
 #include "x2car/camera/video_frames.hpp"
@@ -55,6 +58,16 @@ struct SensorEval {
   std::vector<eval::SegmentResult> segments;
 };
 
+// A bar over a sensor's segments on stderr (only when it is a terminal), done when the last ends.
+std::function<void(std::size_t, std::size_t)> segment_progress(const io::DriveSensor& sensor) {
+  auto bar = std::make_shared<ProgressBar>(sensor.name + " segments",
+                                           spdlog::should_log(spdlog::level::info));
+  return [bar](std::size_t done, std::size_t total) {
+    bar->update(done, total);
+    if (done == total) bar->finish();
+  };
+}
+
 template <typename Item>
 std::vector<Item> within(const std::vector<Item>& items, const eval::TimeSpan& span) {
   std::vector<Item> inside;
@@ -75,7 +88,7 @@ SensorEval eval_ins(const io::DriveSensor& sensor, const std::vector<io::InsReco
       [&](const eval::TimeSpan& span) {
         return ins::calibrate_ins(within(records, span), calibration);
       },
-      records, true, options);
+      records, true, options, segment_progress(sensor));
   return result;
 }
 
@@ -103,7 +116,7 @@ SensorEval eval_radar(const io::DriveSensor& sensor, const io::InsLog& ins_log,
       [&](const eval::TimeSpan& span) {
         return radar::calibrate_radar(within(detections, span), ins_log.records, calibration);
       },
-      ins_log.records, true, options);
+      ins_log.records, true, options, segment_progress(sensor));
   return result;
 }
 
@@ -132,7 +145,7 @@ SensorEval eval_lidar(const io::DriveSensor& sensor, std::span<const io::InsReco
       [&](const eval::TimeSpan& span) {
         return lidar::calibrate_lidar(segment_source(span), calibration);
       },
-      ins, false, options);
+      ins, false, options, segment_progress(sensor));
   return result;
 }
 
@@ -186,7 +199,7 @@ SensorEval eval_camera(const io::DriveSensor& sensor, const std::optional<fs::pa
       [&](const eval::TimeSpan& span) {
         return camera::calibrate_camera(segment_source(span), intrinsics, calibration);
       },
-      ins, false, options);
+      ins, false, options, segment_progress(sensor));
   return result;
 }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <mutex>
 
 #include "x2car/core/options_check.hpp"
 
@@ -52,13 +53,20 @@ bool is_straight(std::span<const io::InsRecord> records, const TimeSpan& span,
 std::vector<SegmentResult> calibrate_segments(
     const std::vector<TimeSpan>& spans,
     const std::function<CalibrationResult(const TimeSpan&)>& calibrate_segment,
-    std::span<const io::InsRecord> ins, bool parallel, const SegmentOptions& options) {
+    std::span<const io::InsRecord> ins, bool parallel, const SegmentOptions& options,
+    const std::function<void(std::size_t done, std::size_t total)>& progress) {
   options.Check();
   std::vector<SegmentResult> results(spans.size());
+  std::mutex progress_mutex;
+  std::size_t done = 0;
   const auto run = [&](std::size_t i) {
     results[i].span = spans[i];
     results[i].straight = !ins.empty() && is_straight(ins, spans[i], options);
     results[i].result = calibrate_segment(spans[i]);
+    if (progress) {
+      const std::lock_guard lock(progress_mutex);
+      progress(++done, spans.size());
+    }
   };
   if (parallel) {
     tbb::parallel_for(std::size_t{0}, spans.size(), run);

@@ -5,6 +5,7 @@
 // compared with the truth separately.
 #pragma once
 
+#include <cstddef>
 #include <functional>
 #include <optional>
 #include <span>
@@ -52,11 +53,13 @@ struct SegmentResult {
 
 // Calibrates every segment: `calibrate_segment(span)` runs the sensor's calibrator on the data in
 // it; segments run in parallel (oneTBB) when `parallel`, else in order (a calibrator that is
-// parallel inside, the LiDAR's). `straight` comes from `ins` when given.
+// parallel inside, the LiDAR's). `straight` comes from `ins` when given. `progress` (when set) is
+// called after each segment with the segments done and the total, one call at a time.
 std::vector<SegmentResult> calibrate_segments(
     const std::vector<TimeSpan>& spans,
     const std::function<CalibrationResult(const TimeSpan&)>& calibrate_segment,
-    std::span<const io::InsRecord> ins, bool parallel, const SegmentOptions& options = {});
+    std::span<const io::InsRecord> ins, bool parallel, const SegmentOptions& options = {},
+    const std::function<void(std::size_t done, std::size_t total)>& progress = {});
 
 // One angle over the segments that gave it [rad].
 struct AngleSpread {

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 
 namespace x2car::eval {
@@ -51,6 +52,7 @@ TEST(Segments, SummaryOverTheSegmentsThatGaveAnEstimate) {
   const std::vector<TimeSpan> spans = cut_into_segments(0.0, 240.0);
   const std::vector<double> yaws = {kPi - 0.001, -kPi + 0.001, kPi - 0.002, 0.0};
   std::atomic<int> calls = 0;
+  std::size_t last_done = 0;
   const std::vector<SegmentResult> segments = calibrate_segments(
       spans,
       [&](const TimeSpan& span) {
@@ -58,8 +60,13 @@ TEST(Segments, SummaryOverTheSegmentsThatGaveAnEstimate) {
         const auto index = static_cast<std::size_t>(span.start_s / 60.0);
         return yaw_result(yaws[index], index != 3);
       },
-      turning_log(0.0), true);
+      turning_log(0.0), true, {},
+      [&](std::size_t done, std::size_t total) {
+        EXPECT_EQ(total, 4U);
+        last_done = std::max(last_done, done);
+      });
   EXPECT_EQ(calls.load(), 4);
+  EXPECT_EQ(last_done, 4U);
   ASSERT_EQ(segments.size(), 4U);
   EXPECT_TRUE(segments[0].straight);  // the log covers the first minute only, without turning
   EXPECT_FALSE(segments[1].straight);
