@@ -69,11 +69,9 @@ int run_calibrate_radar(const CalibrateRadarArguments& arguments) {
   spdlog::info("read {} radar detections ({}) from {} and {} GNSS/INS samples from {}",
                radar_log.detections.size(), io::to_string(radar_log.layout), arguments.input_path,
                ins_log.records.size(), arguments.ins_path);
-  // Put the radar's times on the GNSS/INS log's clock.
-  const double offset_s =
-      radar::radar_to_ins_time_offset(radar_log.start_unix_time, ins_log.start_unix_time);
-  std::vector<io::RadarDetection> detections = radar_log.detections;
-  for (io::RadarDetection& detection : detections) detection.time += offset_s;
+  // The radar's times on the GNSS/INS log's clock.
+  const std::vector<io::RadarDetection> detections =
+      radar::detections_on_ins_clock(radar_log, ins_log);
   const CalibrationResult result =
       radar::calibrate_radar(detections, ins_log.records, calibration_options(arguments));
   return finish_calibration(result, arguments.output);

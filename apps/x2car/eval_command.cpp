@@ -95,11 +95,9 @@ SensorEval eval_ins(const io::DriveSensor& sensor, const std::vector<io::InsReco
 SensorEval eval_radar(const io::DriveSensor& sensor, const io::InsLog& ins_log,
                       const eval::SegmentOptions& options) {
   const io::RadarLog radar_log = io::read_radar(sensor.input, {});
-  // The radar's times on the GNSS/INS log's clock, as `calibrate radar` puts them.
-  const double offset_s =
-      radar::radar_to_ins_time_offset(radar_log.start_unix_time, ins_log.start_unix_time);
-  std::vector<io::RadarDetection> detections = radar_log.detections;
-  for (io::RadarDetection& detection : detections) detection.time += offset_s;
+  // The radar's times on the GNSS/INS log's clock.
+  const std::vector<io::RadarDetection> detections =
+      radar::detections_on_ins_clock(radar_log, ins_log);
   // With what a manifest says of the radar, as `calibrate all` runs it.
   radar::RadarCalibrationOptions calibration;
   if (sensor.lever_arm_m) {

@@ -11,13 +11,6 @@
 namespace x2car::camera {
 namespace {
 
-// R_B_O of DESIGN §1: the optical frame's axes (x right, y down, z forward) in the body frame.
-Eigen::Matrix3d body_from_optical() {
-  Eigen::Matrix3d r;
-  r << 0, 0, 1, -1, 0, 0, 0, -1, 0;
-  return r;
-}
-
 // Road points (z = 0 in the car frame at the first pose) seen by a camera mounted at `mounting`
 // from two poses of the car: the first at the origin, the second after an arc of `chord_m` whose
 // heading turned by `turn_rad` (on a circle the chord lies halfway between the two headings).

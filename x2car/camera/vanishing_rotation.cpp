@@ -4,14 +4,14 @@
 #include <cmath>
 
 namespace x2car::camera {
-namespace {
 
-// R_B_O of DESIGN §1: the optical frame's axes (columns) in the camera's body frame.
 Eigen::Matrix3d body_from_optical() {
   Eigen::Matrix3d rotation;
   rotation << 0, 0, 1, -1, 0, 0, 0, -1, 0;
   return rotation;
 }
+
+namespace {
 
 // Below this a normalised vector is taken as zero: the inputs are pixels and lines of ordinary
 // magnitude, so only a truly degenerate geometry gets near it.

@@ -62,6 +62,10 @@ std::optional<EulerAngles> vehicle_from_camera_angles(const Eigen::Vector2d& van
 std::optional<Eigen::Matrix3d> optical_from_vehicle(const Eigen::Vector3d& forward_in_optical,
                                                     const Eigen::Vector3d& up_in_optical);
 
+// R_B_O of DESIGN §1: the optical frame's axes (x right, y down, z forward; columns) in the
+// camera's body frame (x forward, y left, z up).
+Eigen::Matrix3d body_from_optical();
+
 // R_V_B from R_O_V: R_V_B = R_O_V^T R_B_O^T.
 Eigen::Matrix3d vehicle_from_camera_body(const Eigen::Matrix3d& optical_from_vehicle);
 

@@ -162,4 +162,12 @@ double radar_to_ins_time_offset(double radar_start_unix_time,
   return radar_start_unix_time - *ins_start_unix_time;
 }
 
+std::vector<io::RadarDetection> detections_on_ins_clock(const io::RadarLog& radar,
+                                                        const io::InsLog& ins) {
+  const double offset_s = radar_to_ins_time_offset(radar.start_unix_time, ins.start_unix_time);
+  std::vector<io::RadarDetection> detections = radar.detections;
+  for (io::RadarDetection& detection : detections) detection.time += offset_s;
+  return detections;
+}
+
 }  // namespace x2car::radar

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "x2car/io/ins_csv.hpp"
+#include "x2car/io/ins_log.hpp"
 #include "x2car/io/radar_csv.hpp"
 
 namespace x2car::radar {
@@ -85,5 +86,10 @@ RadarEgoMotion radar_ego_motion(std::span<const io::RadarDetection> detections,
 // already on the INS clock).
 double radar_to_ins_time_offset(double radar_start_unix_time,
                                 const std::optional<double>& ins_start_unix_time);
+
+// The radar log's detections with their times on the GNSS/INS log's clock (shifted by
+// radar_to_ins_time_offset), as calibrate_radar takes them.
+std::vector<io::RadarDetection> detections_on_ins_clock(const io::RadarLog& radar,
+                                                        const io::InsLog& ins);
 
 }  // namespace x2car::radar
