@@ -71,10 +71,19 @@ std::vector<std::string> sensor_arguments(const io::DriveSensor& sensor,
     if (drive.ins_log) {
       line.insert(line.end(), {"--ins", drive.ins_log->string()});
     } else if (sensor.kind == io::SensorKind::kRadar) {
-      throw InputError(
-          sensor.input.string(),
-          "a radar needs the car's motion: the drive folder has no ins/novatel_enu.csv");
+      throw InputError(sensor.input.string(),
+                       "a radar needs the car's motion: the drive has no GNSS/INS log (no "
+                       "ins/novatel_enu.csv, nor a sensor of type ins in x2car.yaml)");
     }
+  }
+  // What a manifest (x2car.yaml) says of the sensor, as the command's own options.
+  if (sensor.intrinsics) line.insert(line.end(), {"--intrinsics", sensor.intrinsics->string()});
+  if (sensor.lever_arm_m) {
+    line.insert(line.end(), {"--lever-arm", fmt::format("{}", (*sensor.lever_arm_m)[0]),
+                             fmt::format("{}", (*sensor.lever_arm_m)[1])});
+  }
+  if (sensor.nominal_yaw_deg) {
+    line.insert(line.end(), {"--nominal-yaw", fmt::format("{}", *sensor.nominal_yaw_deg)});
   }
   line.insert(line.end(), {"--out", json.string()});
   if (arguments.output.without_series) line.emplace_back("--without-series");
@@ -222,8 +231,9 @@ RunCommand setup_calibrate_all_command(CLI::App& command) {
   auto arguments = std::make_shared<CalibrateAllArguments>();
   command
       .add_option("-i,--input", arguments->input_path,
-                  "A drive folder as x2car simulate writes it: ins/novatel_enu.csv, lidar*/, "
-                  "radar*/, camera*/ (docs/formats.md)")
+                  "A drive folder as x2car simulate writes it (ins/novatel_enu.csv, lidar*/, "
+                  "radar*/, camera*/), or any folder with an x2car.yaml manifest naming each "
+                  "sensor's type and input (docs/formats.md)")
       ->type_name("DIR")
       ->required();
   add_output_options(command, arguments->output);

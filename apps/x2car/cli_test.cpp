@@ -861,6 +861,23 @@ TEST(CalibrateAll, AManifestDescribesAUsersLayout) {
   const double true_yaw_deg = number_after(truth, "vehicle_from_radar_left:", "yaw") * 180.0 / M_PI;
   EXPECT_NEAR(result.at("left").at("yaw_deg").get<double>(), true_yaw_deg, 0.2);
 
+  // The manifest's options reach the radar's command: without the lever arm its turns are gated
+  // out (fewer detections used), and a prior 180 deg off keeps the velocity method's search in a
+  // basin where its fit fails its checks.
+  io::write_text_file(folder / "x2car.yaml",
+                      "sensors:\n  gnss: {type: ins, input: logs/gnss.csv}\n  left: {type: radar, "
+                      "input: logs/left, nominal_yaw_deg: -90}\n");
+  const auto other =
+      std::filesystem::path(::testing::TempDir()) / "cli_calibrate_all_manifest_2.json";
+  ASSERT_EQ(
+      run_x2car("calibrate all --input " + folder.string() + " --out " + other.string()).exit_code,
+      0);
+  const auto without_lever = io::Json::parse(io::read_text_file(other));
+  EXPECT_LT(without_lever.at("left").at("support").at("velocity_detections").get<int>(),
+            result.at("left").at("support").at("velocity_detections").get<int>());
+  EXPECT_THAT(without_lever.at("left").at("reason").get<std::string>(),
+              HasSubstr("velocity method, unreliable"));
+
   // A wrong path names its key.
   io::write_text_file(folder / "x2car.yaml", "sensors:\n  gnss: {type: ins, input: gnss.csv}\n");
   const CliRun bad = run_x2car("calibrate all --input " + folder.string());
