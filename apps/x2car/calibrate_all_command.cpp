@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "apps/x2car/calibration_output.hpp"
@@ -217,8 +218,8 @@ int run_calibrate_all(const CalibrateAllArguments& arguments) {
         kExitOk) {
       exit_code = kExitInsufficientData;
     }
-    const std::string text = io::read_text_file(json);
-    runs.push_back({sensor, io::parse_result_json(text, json.string()), io::Json::parse(text)});
+    io::Json result = io::Json::parse(io::read_text_file(json));
+    runs.push_back({sensor, io::result_from_json(result, json.string()), std::move(result)});
   }
   std::cout << "\n" << summary_table(runs, truth);
   write_outputs(runs, arguments.output);

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "apps/x2car/camera_inputs.hpp"
@@ -66,6 +67,13 @@ std::function<void(std::size_t, std::size_t)> segment_progress(const io::DriveSe
     bar->update(done, total);
     if (done == total) bar->finish();
   };
+}
+
+// The indices [first, last) of the sorted `times` inside the span: a segment's sweeps or frames.
+std::pair<std::ptrdiff_t, std::ptrdiff_t> indices_within(const std::vector<double>& times,
+                                                         const eval::TimeSpan& span) {
+  return {std::ranges::lower_bound(times, span.start_s) - times.begin(),
+          std::ranges::lower_bound(times, span.end_s) - times.begin()};
 }
 
 template <typename Item>
@@ -128,8 +136,7 @@ SensorEval eval_lidar(const io::DriveSensor& sensor, std::span<const io::InsReco
   if (source.times.empty()) return result;
   // The sweeps of each segment, read through the folder's own reader.
   const auto segment_source = [&source](const eval::TimeSpan& span) {
-    const auto first = std::ranges::lower_bound(source.times, span.start_s) - source.times.begin();
-    const auto last = std::ranges::lower_bound(source.times, span.end_s) - source.times.begin();
+    const auto [first, last] = indices_within(source.times, span);
     lidar::SweepSource part;
     part.times.assign(source.times.begin() + first, source.times.begin() + last);
     part.read = [&source, first](std::size_t index) {
@@ -169,8 +176,7 @@ SensorEval eval_camera(const io::DriveSensor& sensor, const std::optional<fs::pa
   if (source.times.empty()) return result;
   // The frames of each segment, decoded through the folder's own reader.
   const auto segment_source = [&source](const eval::TimeSpan& span) {
-    const auto first = std::ranges::lower_bound(source.times, span.start_s) - source.times.begin();
-    const auto last = std::ranges::lower_bound(source.times, span.end_s) - source.times.begin();
+    const auto [first, last] = indices_within(source.times, span);
     camera::CameraFrameSource part;
     part.times.assign(source.times.begin() + first, source.times.begin() + last);
     const auto at = [first](std::size_t index) { return static_cast<std::size_t>(first) + index; };
@@ -225,16 +231,15 @@ std::string format_sensor_table(const SensorEval& run, const eval::SegmentSummar
       summary.mean_seconds, to_string(run.whole.status));
   text += fmt::format("{:<6} {:>10} {:>10} {:>12} {:>12} {:>14} {:>14}\n", "[deg]", "whole log",
                       "error", "segments", "std (all)", "std (straight)", "max |seg err|");
-  const auto row = [&](const char* name, const std::optional<double>& whole,
+  const auto row = [&](const char* name, std::optional<double> CalibrationResult::*estimate,
                        const eval::AngleSpread& spread, double EulerAngles::*angle) {
+    const std::optional<double>& whole = run.whole.*estimate;
     std::optional<double> error;
     std::optional<double> worst;
     if (truth) {
       if (whole) error = wrap_angle(*whole - (*truth).*angle);
       for (const eval::SegmentResult& segment : run.segments) {
-        const std::optional<double>& value = angle == &EulerAngles::roll    ? segment.result.roll
-                                             : angle == &EulerAngles::pitch ? segment.result.pitch
-                                                                            : segment.result.yaw;
+        const std::optional<double>& value = segment.result.*estimate;
         if (!segment.result.ok() || !value) continue;
         const double miss = std::abs(wrap_angle(*value - (*truth).*angle));
         worst = std::max(worst.value_or(0.0), miss);
@@ -248,9 +253,9 @@ std::string format_sensor_table(const SensorEval& run, const eval::SegmentSummar
                         fmt::format("{} ({})", degrees(spread.std_straight), spread.straight_count),
                         degrees(worst));
   };
-  row("roll", run.whole.roll, summary.roll, &EulerAngles::roll);
-  row("pitch", run.whole.pitch, summary.pitch, &EulerAngles::pitch);
-  row("yaw", run.whole.yaw, summary.yaw, &EulerAngles::yaw);
+  row("roll", &CalibrationResult::roll, summary.roll, &EulerAngles::roll);
+  row("pitch", &CalibrationResult::pitch, summary.pitch, &EulerAngles::pitch);
+  row("yaw", &CalibrationResult::yaw, summary.yaw, &EulerAngles::yaw);
   // The LiDAR's height above the road [m], as the paper's Table III has it.
   if (run.whole.z || summary.z.count > 0) {
     const auto metres = [](const std::optional<double>& value, const char* format = "{:.4f}") {

@@ -208,10 +208,7 @@ FrameEstimate road_plane_from_tracks(const std::vector<Eigen::Vector2d>& previou
   estimate.horizon_source = HorizonSource::kRoadPlaneMotion;
   estimate.quality = static_cast<double>(inliers) / static_cast<double>(count);
   // RMS transfer error of the inliers [rad at the image centre, like the geometric residual].
-  Eigen::Matrix3d h;
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) h(r, c) = homography.at<double>(r, c);
-  }
+  const Eigen::Matrix3d h = from_cv(homography);
   double sum_squared = 0.0;
   for (std::size_t i = 0; i < count; ++i) {
     if (!inlier_mask[i]) continue;
