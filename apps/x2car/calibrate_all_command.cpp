@@ -141,14 +141,11 @@ std::string summary_table(const std::vector<SensorRun>& runs,
   std::string text = fmt::format("{:<12} {:<18} {:>18} {:>18} {:>18}\n", "sensor", "status",
                                  "roll [deg]", "pitch [deg]", "yaw [deg]");
   for (const SensorRun& run : runs) {
-    std::optional<EulerAngles> true_angles;
-    if (truth) {
-      const auto found = truth->vehicle_from_sensor.find(run.sensor.name);
-      if (found != truth->vehicle_from_sensor.end()) true_angles = found->second.rotation;
-    }
+    const std::optional<io::SensorMounting> mounting =
+        truth ? io::find_mounting(*truth, run.sensor.name) : std::nullopt;
     const auto true_angle = [&](double EulerAngles::*angle) -> std::optional<double> {
-      if (!true_angles) return std::nullopt;
-      return (*true_angles).*angle;
+      if (!mounting) return std::nullopt;
+      return mounting->rotation.*angle;
     };
     text += fmt::format("{:<12} {:<18} {:>18} {:>18} {:>18}\n", run.sensor.name,
                         to_string(run.result.status),

@@ -209,10 +209,7 @@ SensorEval eval_camera(const io::DriveSensor& sensor, const std::optional<fs::pa
 
 std::optional<io::SensorMounting> true_mounting(const std::optional<io::GroundTruth>& truth,
                                                 const std::string& name) {
-  if (!truth) return std::nullopt;
-  const auto found = truth->vehicle_from_sensor.find(name);
-  if (found == truth->vehicle_from_sensor.end()) return std::nullopt;
-  return found->second;
+  return truth ? io::find_mounting(*truth, name) : std::nullopt;
 }
 
 std::string degrees(const std::optional<double>& radians, const char* format = "{:.3f}") {

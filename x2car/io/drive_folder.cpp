@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <stdexcept>
 #include <system_error>
 
 #include "x2car/core/error.hpp"
@@ -135,17 +136,13 @@ DriveFolder read_drive_manifest_checked(const fs::path& manifest) {
       throw InputError(source, yaml_line(fields), prefix + ".type",
                        "missing: one of ins, lidar, radar, camera");
     }
-    const std::optional<SensorKind> kind = [&]() -> std::optional<SensorKind> {
-      for (const EnumName<SensorKind>& known : kSensorKindNames) {
-        if (type.as<std::string>() == known.name) return known.value;
-      }
-      return std::nullopt;
-    }();
-    if (!kind) {
-      throw InputError(source, yaml_line(type), prefix + ".type",
-                       fmt::format("unknown type '{}': one of ins, lidar, radar, camera",
-                                   type.as<std::string>()));
+    SensorKind kind_value = SensorKind::kIns;
+    try {
+      kind_value = enum_from_string(kSensorKindNames, type.as<std::string>(), "type");
+    } catch (const std::invalid_argument& error) {
+      throw InputError(source, yaml_line(type), prefix + ".type", error.what());
     }
+    const std::optional<SensorKind> kind = kind_value;
     for (const auto& field : fields) {
       const std::string field_name = field.first.as<std::string>();
       if (!key_fits(*kind, field_name)) {

@@ -230,4 +230,10 @@ std::vector<TrajectoryRow> parse_trajectory_csv(std::string_view text,
   return rows;
 }
 
+std::optional<SensorMounting> find_mounting(const GroundTruth& truth, const std::string& sensor) {
+  const auto found = truth.vehicle_from_sensor.find(sensor);
+  if (found == truth.vehicle_from_sensor.end()) return std::nullopt;
+  return found->second;
+}
+
 }  // namespace x2car::io

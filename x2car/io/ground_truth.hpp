@@ -29,6 +29,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -59,6 +60,9 @@ struct GroundTruth {
   std::string trajectory_file;          // side file name, relative to the YAML file's folder
   SensorMountings vehicle_from_sensor;  // written as vehicle_from_<name>
 };
+
+// The truth's vehicle_from_<sensor>, when it holds that sensor.
+std::optional<SensorMounting> find_mounting(const GroundTruth& truth, const std::string& sensor);
 
 // Throws std::invalid_argument for a sensor name that is empty or not [A-Za-z0-9_].
 std::string format_ground_truth(const GroundTruth& truth);
