@@ -26,6 +26,7 @@
 #include "x2car/camera/camera_frames.hpp"
 #include "x2car/camera/video_frames.hpp"
 #include "x2car/core/error.hpp"
+#include "x2car/eval/eval_json.hpp"
 #include "x2car/eval/segments.hpp"
 #include "x2car/ins/ins_calibration.hpp"
 #include "x2car/io/drive_folder.hpp"
@@ -278,43 +279,6 @@ std::string format_sensor_table(const SensorEval& run, const eval::SegmentSummar
   return text;
 }
 
-io::Json spread_json(const eval::AngleSpread& spread) {
-  const auto value = [](const std::optional<double>& radians) -> io::Json {
-    return radians ? io::Json(deg_from_rad(*radians)) : io::Json(nullptr);
-  };
-  return {{"segments", spread.count},
-          {"straight_segments", spread.straight_count},
-          {"mean_deg", value(spread.mean)},
-          {"std_deg", value(spread.std_all)},
-          {"std_straight_deg", value(spread.std_straight)}};
-}
-
-io::Json sensor_json(const SensorEval& run, const eval::SegmentSummary& summary) {
-  const io::ResultJsonOptions options{.include_series = false, .include_timing = true};
-  io::Json segments = io::Json::array();
-  for (const eval::SegmentResult& segment : run.segments) {
-    segments.push_back({{"start_s", segment.span.start_s},
-                        {"end_s", segment.span.end_s},
-                        {"straight", segment.straight},
-                        {"result", io::result_to_json(segment.result, options)}});
-  }
-  return {{"whole_log", io::result_to_json(run.whole, options)},
-          {"summary",
-           {{"segments", summary.segments},
-            {"with_estimate", summary.with_estimate},
-            {"seconds_per_segment", summary.mean_seconds},
-            {"roll", spread_json(summary.roll)},
-            {"pitch", spread_json(summary.pitch)},
-            {"yaw", spread_json(summary.yaw)},
-            {"z_m",
-             {{"segments", summary.z.count},
-              {"mean", summary.z.mean ? io::Json(*summary.z.mean) : io::Json(nullptr)},
-              {"std", summary.z.std_all ? io::Json(*summary.z.std_all) : io::Json(nullptr)},
-              {"std_straight",
-               summary.z.std_straight ? io::Json(*summary.z.std_straight) : io::Json(nullptr)}}}}},
-          {"segments", segments}};
-}
-
 int run_eval(const EvalArguments& arguments) {
   if (!arguments.json_path.empty()) {
     const std::array<NamedPath, 1> outputs = {{{"--out", arguments.json_path}}};
@@ -368,7 +332,8 @@ int run_eval(const EvalArguments& arguments) {
   for (const SensorEval& run : runs) {
     const eval::SegmentSummary summary = eval::summarise_segments(run.segments);
     std::cout << format_sensor_table(run, summary, true_mounting(truth, run.sensor.name)) << "\n";
-    all[run.sensor.name] = sensor_json(run, summary);
+    all[run.sensor.name] = eval::evaluation_to_json(
+        {run.whole, run.segments}, {.include_series = false, .include_timing = true});
     every_whole_ok = every_whole_ok && run.whole.ok();
   }
   if (truth) std::cout << "(error: the whole log's estimate minus ground_truth.yaml)\n";

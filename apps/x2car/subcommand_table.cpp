@@ -23,6 +23,10 @@ std::span<const Subcommand> subcommand_table() {
                  "The paper's protocol: calibrate a drive folder's sensors on every minute, the "
                  "spread of the estimates and their errors against the truth",
                  &setup_eval_command},
+      Subcommand{"report",
+                 "One HTML file a person can check: results, their evidence as charts, the "
+                 "segments of an evaluation, a camera's frames and a view to adjust them",
+                 &setup_report_command},
   };
   return kSubcommands;
 }

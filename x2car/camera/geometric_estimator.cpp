@@ -5,6 +5,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "x2car/camera/grey_image.hpp"
@@ -269,17 +270,35 @@ std::optional<HorizonFit> fit_horizon(const std::vector<Segment>& segments,
   return std::nullopt;
 }
 
+// Every segment as a FrameLine, those of `fit` (when given) marked with `role`.
+void describe_lines(const std::vector<Segment>& segments, const DirectionFit* road,
+                    const DirectionFit* horizon, std::vector<FrameLine>& lines) {
+  lines.clear();
+  lines.reserve(segments.size());
+  for (const Segment& segment : segments) {
+    const Eigen::Vector2d half = 0.5 * segment.length_px * segment.direction;
+    lines.push_back({segment.midpoint_px - half, segment.midpoint_px + half, LineRole::kOther});
+  }
+  for (const auto& [fit, role] :
+       {std::pair{road, LineRole::kRoad}, std::pair{horizon, LineRole::kHorizon}}) {
+    if (fit == nullptr) continue;
+    for (const int index : fit->inliers) lines[static_cast<std::size_t>(index)].role = role;
+  }
+}
+
 }  // namespace
 
 FrameEstimate estimate_frame_geometric(const cv::Mat& image,
                                        const core::CameraIntrinsics& intrinsics,
-                                       const GeometricEstimatorOptions& options) {
+                                       const GeometricEstimatorOptions& options,
+                                       std::vector<FrameLine>* lines) {
   if (image.empty()) return rejected_frame(FrameRejection::kUnreadableImage);
   if (image.cols != intrinsics.width || image.rows != intrinsics.height) {
     return rejected_frame(FrameRejection::kWrongImageSize);
   }
   const cv::Mat grey = grey_8bit(image);
   const std::vector<Segment> segments = detect_segments(grey, intrinsics, options);
+  if (lines != nullptr) describe_lines(segments, nullptr, nullptr, *lines);
   FrameEstimate estimate;
   estimate.segments = static_cast<int>(segments.size());
   if (segments.size() < static_cast<std::size_t>(options.min_segments)) {
@@ -308,6 +327,7 @@ FrameEstimate estimate_frame_geometric(const cv::Mat& image,
                              : FrameRejection::kNoConsensus;
     return estimate;
   }
+  if (lines != nullptr) describe_lines(segments, &*road, nullptr, *lines);
   estimate.road_inliers = static_cast<int>(road->inliers.size());
   estimate.road_residual_rms = rms_angle(segments, *road, camera_matrix);
   const Eigen::Vector3d road_image = camera_matrix * road->direction;
@@ -322,6 +342,7 @@ FrameEstimate estimate_frame_geometric(const cv::Mat& image,
     estimate.rejection = FrameRejection::kNoHorizon;
     return estimate;
   }
+  if (lines != nullptr) describe_lines(segments, &*road, &horizon->fit, *lines);
   estimate.horizon_line = *line;
   estimate.horizon_source = horizon->source;
   estimate.horizon_inliers = static_cast<int>(horizon->fit.inliers.size());

@@ -27,7 +27,9 @@
 //   (frame_estimate.hpp).
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
+#include <vector>
 
 #include "x2car/camera/frame_estimate.hpp"
 #include "x2car/core/camera_model.hpp"
@@ -70,12 +72,28 @@ struct GeometricEstimatorOptions {
   void Check() const;
 };
 
+// What a usable segment supported, for drawing it (the report's frames).
+enum class LineRole {
+  kOther,    // neither vanishing point
+  kRoad,     // the road's vanishing point
+  kHorizon,  // the vertical (or second horizontal) vanishing point that gave the horizon
+};
+
+// A usable segment (after the length filter), in undistorted pixels.
+struct FrameLine {
+  Eigen::Vector2d start_px = Eigen::Vector2d::Zero();
+  Eigen::Vector2d end_px = Eigen::Vector2d::Zero();
+  LineRole role = LineRole::kOther;
+};
+
 // The estimate of one image (grey or BGR, 8 or 16 bit). An image whose size differs from the
 // intrinsics' is rejected (wrong_image_size), an empty one unreadable_image. Pure: safe to call
-// from several threads at once.
+// from several threads at once. `lines`, when given, receives every usable segment and its role
+// (as far as the estimate got before a rejection).
 FrameEstimate estimate_frame_geometric(const cv::Mat& image,
                                        const core::CameraIntrinsics& intrinsics,
-                                       const GeometricEstimatorOptions& options = {});
+                                       const GeometricEstimatorOptions& options = {},
+                                       std::vector<FrameLine>* lines = nullptr);
 
 // The same behind the FrameEstimator interface. Checks the options once (std::invalid_argument).
 FrameEstimator make_geometric_estimator(const GeometricEstimatorOptions& options = {});

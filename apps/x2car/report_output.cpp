@@ -1,0 +1,39 @@
+#include "apps/x2car/report_output.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <utility>
+
+#include "apps/x2car/camera_inputs.hpp"
+#include "x2car/camera/camera_frames.hpp"
+#include "x2car/camera/video_frames.hpp"
+#include "x2car/io/image_folder.hpp"
+#include "x2car/io/text_lines.hpp"
+
+namespace x2car::cli {
+
+std::vector<camera::FrameView> camera_frame_views(const io::DriveSensor& sensor) {
+  IntrinsicsSource source;
+  if (sensor.intrinsics) source.intrinsics_path = sensor.intrinsics->string();
+  const core::CameraIntrinsics intrinsics = find_camera_intrinsics(sensor.input.string(), source);
+  if (camera::is_video_file(sensor.input)) {
+    return camera::sample_frame_views(camera::camera_frames_from_video(sensor.input), intrinsics);
+  }
+  const io::ImageFolder folder = io::list_images(sensor.input);
+  return camera::sample_frame_views(camera::camera_frames_from(folder), intrinsics);
+}
+
+report::ReportSensor drive_report_sensor(const io::DriveSensor& sensor, CalibrationResult result,
+                                         const std::optional<io::GroundTruth>& truth) {
+  report::ReportSensor entry{sensor.name, std::move(result), std::nullopt, std::nullopt, {}};
+  if (truth) entry.truth = io::find_mounting(*truth, sensor.name);
+  if (sensor.kind == io::SensorKind::kCamera) entry.frames = camera_frame_views(sensor);
+  return entry;
+}
+
+void write_report(const std::string& path, const report::ReportInput& input) {
+  io::write_text_file(path, report::render_report_html(input));
+  spdlog::info("wrote the report {}", path);
+}
+
+}  // namespace x2car::cli
