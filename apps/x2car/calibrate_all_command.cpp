@@ -21,6 +21,7 @@
 
 #include "apps/x2car/calibration_output.hpp"
 #include "apps/x2car/exit_codes.hpp"
+#include "apps/x2car/report_output.hpp"
 #include "apps/x2car/subcommand.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/core/extrinsic.hpp"
@@ -220,6 +221,14 @@ int run_calibrate_all(const CalibrateAllArguments& arguments) {
   }
   std::cout << "\n" << summary_table(runs, truth);
   write_outputs(runs, arguments.output);
+  if (!arguments.output.report_path.empty()) {
+    report::ReportInput input{
+        drive_title(drive), "x2car calibrate all --input " + arguments.input_path, {}};
+    for (const SensorRun& run : runs) {
+      input.sensors.push_back(drive_report_sensor(run.sensor, run.result, truth));
+    }
+    write_report(arguments.output.report_path, input);
+  }
   return exit_code;
 }
 
@@ -238,7 +247,8 @@ RunCommand setup_calibrate_all_command(CLI::App& command) {
   command.footer(
       "Each sensor runs as its own 'x2car calibrate <kind>' with that command's defaults; the "
       "radars and the camera take the drive's GNSS/INS log. --out writes one JSON keyed by "
-      "sensor, --yaml and --urdf every sensor that calibrated. Exit 0 when all calibrated, 1 when "
+      "sensor, --yaml and --urdf every sensor that calibrated, --report one HTML report of all. "
+      "Exit 0 when all calibrated, 1 when "
       "some had too little data (the rest still written), 2 on bad input.\n"
       "\n"
       "Example:\n"

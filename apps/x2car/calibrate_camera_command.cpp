@@ -113,7 +113,11 @@ int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
   options.progress = progress.callback();
   const CalibrationResult result = camera::calibrate_camera(frames, intrinsics, options);
   progress.finish();
-  const int exit_code = finish_calibration(result, arguments.output);
+  ReportContext report = report_context("camera", arguments.input_path);
+  if (!arguments.output.report_path.empty()) {
+    report.frames = camera::sample_frame_views(frames, intrinsics);
+  }
+  const int exit_code = finish_calibration(result, arguments.output, report);
   write_optical_frame(result, arguments.output);
   return exit_code;
 }

@@ -46,7 +46,7 @@ int run_calibrate_ins(const CalibrateInsArguments& arguments) {
   spdlog::info("read {} GNSS/INS samples ({}) from {}", log.records.size(),
                io::to_string(log.format), arguments.input_path);
   const CalibrationResult result = ins::calibrate_ins(log.records, calibration_options(arguments));
-  return finish_calibration(result, arguments.output);
+  return finish_calibration(result, arguments.output, report_context("ins", arguments.input_path));
 }
 
 }  // namespace

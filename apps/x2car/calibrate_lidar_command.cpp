@@ -49,7 +49,8 @@ int run_calibrate_lidar(const CalibrateLidarArguments& arguments) {
   const CalibrationResult result =
       lidar::calibrate_lidar(lidar::sweep_source_from(folder), options);
   progress.finish();
-  return finish_calibration(result, arguments.output);
+  return finish_calibration(result, arguments.output,
+                            report_context("lidar", arguments.input_path));
 }
 
 }  // namespace

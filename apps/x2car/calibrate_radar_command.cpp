@@ -74,7 +74,8 @@ int run_calibrate_radar(const CalibrateRadarArguments& arguments) {
       radar::detections_on_ins_clock(radar_log, ins_log);
   const CalibrationResult result =
       radar::calibrate_radar(detections, ins_log.records, calibration_options(arguments));
-  return finish_calibration(result, arguments.output);
+  return finish_calibration(result, arguments.output,
+                            report_context("radar", arguments.input_path));
 }
 
 }  // namespace

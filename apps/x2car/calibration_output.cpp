@@ -3,11 +3,13 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <string>
 
 #include "apps/x2car/exit_codes.hpp"
+#include "apps/x2car/report_output.hpp"
 #include "x2car/io/extrinsic_formats.hpp"
 #include "x2car/io/result_json.hpp"
 #include "x2car/io/text_lines.hpp"
@@ -41,6 +43,11 @@ void add_output_options(CLI::App& command, OutputArguments& arguments) {
       ->type_name("FILE");
   command.add_option("--urdf", arguments.urdf_path, "Also write the mounting as a URDF joint")
       ->type_name("FILE");
+  command
+      .add_option("--report", arguments.report_path,
+                  "Also write the HTML report: the result, the evidence behind it as charts "
+                  "(x2car report)")
+      ->type_name("FILE");
   command.add_flag("--without-series", arguments.without_series,
                    "Leave the per-sample series out of the JSON (smaller file)");
   command.add_flag("--reproducible", arguments.reproducible,
@@ -51,7 +58,8 @@ void add_output_options(CLI::App& command, OutputArguments& arguments) {
 void check_output_arguments(const OutputArguments& arguments, std::span<const NamedPath> inputs) {
   const NamedPath outputs[] = {{"--out", arguments.json_path},
                                {"--yaml", arguments.yaml_path},
-                               {"--urdf", arguments.urdf_path}};
+                               {"--urdf", arguments.urdf_path},
+                               {"--report", arguments.report_path}};
   check_output_files(outputs, inputs);
 }
 
@@ -93,7 +101,14 @@ std::string format_result_summary(const CalibrationResult& result) {
   return text;
 }
 
-int finish_calibration(const CalibrationResult& result, const OutputArguments& arguments) {
+ReportContext report_context(const std::string& kind, const std::string& input_path) {
+  std::string title = std::filesystem::path(input_path).lexically_normal().filename().string();
+  if (title.empty()) title = input_path;
+  return {title, fmt::format("x2car calibrate {} --input {}", kind, input_path), {}};
+}
+
+int finish_calibration(const CalibrationResult& result, const OutputArguments& arguments,
+                       const ReportContext& report) {
   std::cout << format_result_summary(result);
   // -v: the figures behind the estimate, which the summary leaves to the JSON.
   for (const auto& [name, value] : result.diagnostics) spdlog::debug("  {} = {:g}", name, value);
@@ -102,6 +117,11 @@ int finish_calibration(const CalibrationResult& result, const OutputArguments& a
         arguments.json_path, result,
         {.include_series = !arguments.without_series, .include_timing = !arguments.reproducible});
     spdlog::info("wrote {}", arguments.json_path);
+  }
+  if (!arguments.report_path.empty()) {
+    report::ReportInput input{report.title, report.command, {}};
+    input.sensors.push_back({result.sensor, result, std::nullopt, std::nullopt, report.frames});
+    write_report(arguments.report_path, input);
   }
   if (!result.ok()) {
     if (!arguments.yaml_path.empty() || !arguments.urdf_path.empty()) {

@@ -22,6 +22,7 @@
 #include "apps/x2car/exit_codes.hpp"
 #include "apps/x2car/output_paths.hpp"
 #include "apps/x2car/progress_bar.hpp"
+#include "apps/x2car/report_output.hpp"
 #include "apps/x2car/subcommand.hpp"
 #include "x2car/camera/camera_frames.hpp"
 #include "x2car/camera/video_frames.hpp"
@@ -51,6 +52,7 @@ struct EvalArguments {
   std::string sensor = "all";
   double segment_s = eval::SegmentOptions{}.segment_s;
   std::string json_path;
+  std::string report_path;
 };
 
 // A sensor's whole-log result and its segments.
@@ -87,10 +89,11 @@ std::vector<Item> within(const std::vector<Item>& items, const eval::TimeSpan& s
 }
 
 SensorEval eval_ins(const io::DriveSensor& sensor, const std::vector<io::InsRecord>& records,
-                    const eval::SegmentOptions& options) {
+                    const eval::SegmentOptions& options, bool whole_series) {
   ins::InsCalibrationOptions calibration;
-  calibration.keep_series = false;
+  calibration.keep_series = whole_series;  // the report's evidence
   SensorEval result{sensor, ins::calibrate_ins(records, calibration), {}};
+  calibration.keep_series = false;
   if (records.empty()) return result;
   result.segments = eval::calibrate_segments(
       eval::cut_into_segments(records.front().time, records.back().time, options),
@@ -128,12 +131,13 @@ SensorEval eval_radar(const io::DriveSensor& sensor, const io::InsLog& ins_log,
 }
 
 SensorEval eval_lidar(const io::DriveSensor& sensor, std::span<const io::InsRecord> ins,
-                      const eval::SegmentOptions& options) {
+                      const eval::SegmentOptions& options, bool whole_series) {
   const lidar::SweepFolder folder = lidar::list_sweeps(sensor.input);
   const lidar::SweepSource source = lidar::sweep_source_from(folder);
   lidar::LidarCalibrationOptions calibration;
-  calibration.keep_series = false;
+  calibration.keep_series = whole_series;
   SensorEval result{sensor, lidar::calibrate_lidar(source, calibration), {}};
+  calibration.keep_series = false;
   if (source.times.empty()) return result;
   // The sweeps of each segment, read through the folder's own reader.
   const auto segment_source = [&source](const eval::TimeSpan& span) {
@@ -157,7 +161,7 @@ SensorEval eval_lidar(const io::DriveSensor& sensor, std::span<const io::InsReco
 
 SensorEval eval_camera(const io::DriveSensor& sensor, const std::optional<fs::path>& ins_path,
                        const std::optional<io::InsLog>& ins_log,
-                       const eval::SegmentOptions& options) {
+                       const eval::SegmentOptions& options, bool whole_series) {
   IntrinsicsSource intrinsics_source;
   if (sensor.intrinsics) intrinsics_source.intrinsics_path = sensor.intrinsics->string();
   const core::CameraIntrinsics intrinsics =
@@ -172,8 +176,9 @@ SensorEval eval_camera(const io::DriveSensor& sensor, const std::optional<fs::pa
   }
   if (ins_path) source.motion = camera_motion_from_log(ins_path->string(), source);
   camera::CameraCalibrationOptions calibration;
-  calibration.keep_series = false;
+  calibration.keep_series = whole_series;
   SensorEval result{sensor, camera::calibrate_camera(source, intrinsics, calibration), {}};
+  calibration.keep_series = false;
   if (source.times.empty()) return result;
   // The frames of each segment, decoded through the folder's own reader.
   const auto segment_source = [&source](const eval::TimeSpan& span) {
@@ -285,6 +290,13 @@ int run_eval(const EvalArguments& arguments) {
     const std::array<NamedPath, 1> inputs = {{{"--input", arguments.input_path}}};
     check_output_files(outputs, inputs);
   }
+  const bool with_report = !arguments.report_path.empty();
+  if (with_report) {
+    const std::array<NamedPath, 1> outputs = {{{"--report", arguments.report_path}}};
+    const std::array<NamedPath, 2> inputs = {
+        {{"--input", arguments.input_path}, {"--out", arguments.json_path}}};
+    check_output_files(outputs, inputs);
+  }
   eval::SegmentOptions options;
   options.segment_s = arguments.segment_s;
   options.Check();
@@ -304,7 +316,7 @@ int run_eval(const EvalArguments& arguments) {
     spdlog::info("evaluating {} in segments of {:g} s", sensor.name, options.segment_s);
     switch (sensor.kind) {
       case io::SensorKind::kIns:
-        runs.push_back(eval_ins(sensor, ins_log->records, options));
+        runs.push_back(eval_ins(sensor, ins_log->records, options, with_report));
         break;
       case io::SensorKind::kRadar:
         if (!ins_log) {
@@ -313,10 +325,10 @@ int run_eval(const EvalArguments& arguments) {
         runs.push_back(eval_radar(sensor, *ins_log, options));
         break;
       case io::SensorKind::kLidar:
-        runs.push_back(eval_lidar(sensor, ins, options));
+        runs.push_back(eval_lidar(sensor, ins, options, with_report));
         break;
       case io::SensorKind::kCamera:
-        runs.push_back(eval_camera(sensor, drive.ins_log, ins_log, options));
+        runs.push_back(eval_camera(sensor, drive.ins_log, ins_log, options, with_report));
         break;
     }
   }
@@ -341,6 +353,15 @@ int run_eval(const EvalArguments& arguments) {
     io::write_text_file(arguments.json_path, all.dump(2) + "\n");
     spdlog::info("wrote {}", arguments.json_path);
   }
+  if (with_report) {
+    report::ReportInput input{drive_title(drive), "x2car eval --input " + arguments.input_path, {}};
+    for (const SensorEval& run : runs) {
+      report::ReportSensor entry = drive_report_sensor(run.sensor, run.whole, truth);
+      entry.evaluation = eval::SensorEvaluation{run.whole, run.segments};
+      input.sensors.push_back(std::move(entry));
+    }
+    write_report(arguments.report_path, input);
+  }
   return every_whole_ok ? kExitOk : kExitInsufficientData;
 }
 
@@ -361,6 +382,11 @@ RunCommand setup_eval_command(CLI::App& command) {
       ->capture_default_str();
   command.add_option("-o,--out", arguments->json_path,
                      "Write the whole-log and per-segment results and the spreads as JSON");
+  command
+      .add_option("--report", arguments->report_path,
+                  "Also write the HTML report: each sensor's whole-log result with its evidence "
+                  "and its segments' estimates (x2car report)")
+      ->type_name("FILE");
   command.footer(
       "The paper's protocol (its Table III): each sensor calibrated on the whole log and on each "
       "segment, with each calibrator's defaults; the spread of the segments' estimates over all "

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <filesystem>
 #include <utility>
 
 #include "apps/x2car/camera_inputs.hpp"
@@ -29,6 +30,12 @@ report::ReportSensor drive_report_sensor(const io::DriveSensor& sensor, Calibrat
   if (truth) entry.truth = io::find_mounting(*truth, sensor.name);
   if (sensor.kind == io::SensorKind::kCamera) entry.frames = camera_frame_views(sensor);
   return entry;
+}
+
+std::string drive_title(const io::DriveFolder& drive) {
+  const std::filesystem::path root = drive.root.lexically_normal();
+  const std::string name = root.filename().string();
+  return name.empty() ? root.parent_path().filename().string() : name;
 }
 
 void write_report(const std::string& path, const report::ReportInput& input) {

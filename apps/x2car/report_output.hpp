@@ -22,6 +22,9 @@ std::vector<camera::FrameView> camera_frame_views(const io::DriveSensor& sensor)
 report::ReportSensor drive_report_sensor(const io::DriveSensor& sensor, CalibrationResult result,
                                          const std::optional<io::GroundTruth>& truth);
 
+// A drive folder's name for the report's title.
+std::string drive_title(const io::DriveFolder& drive);
+
 // Writes the HTML and says where (info); std::runtime_error when it cannot be written.
 void write_report(const std::string& path, const report::ReportInput& input);
 

@@ -12,6 +12,7 @@
 
 #include "x2car/core/calibration_result.hpp"
 #include "x2car/core/extrinsic.hpp"
+#include "x2car/io/angle_unit.hpp"
 #include "x2car/io/autoware_yaml.hpp"
 #include "x2car/io/urdf_joint.hpp"
 
@@ -26,8 +27,6 @@ enum class ExtrinsicFormat {
   kAutoware,    // sensor_kit_calibration.yaml: parent: child: {x, y, z, roll, pitch, yaw}
   kReference,   // the reference implementation's "Extrinsic:" + [r00,r01,r02,t0],...,[0,0,0,1]
 };
-
-enum class AngleUnit { kRadians, kDegrees };
 
 // Names: xyzrpy-deg, xyzrpy-rad, matrix, quaternion, urdf, autoware, reference.
 const char* to_string(ExtrinsicFormat format);

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "x2car/core/rotation.hpp"
+#include "x2car/io/angle_unit.hpp"
 #include "x2car/io/geodetic.hpp"
 
 namespace x2car::io {
@@ -56,8 +57,6 @@ enum class YawConvention {
   kEnu,      // counter-clockwise from east (x2car's yaw; ROS, KITTI OXTS)
   kAzimuth,  // clockwise from north (NovAtel, OxTS NCOM, a compass); yaw_enu = pi/2 - azimuth
 };
-
-enum class AngleUnit { kRadians, kDegrees };
 
 // "enu", "azimuth" and "rad", "deg" (one table each in ins_csv.cpp); parsing throws
 // std::invalid_argument listing the names; ..._names() are the CLI's choices.

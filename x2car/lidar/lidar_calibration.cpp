@@ -327,6 +327,18 @@ SensorTrack levelled_track(const std::vector<OdometryStep>& steps, double roll, 
   return track;
 }
 
+// The odometry's path on a map (the report): x and y of the levelled track [m].
+void write_path_series(const SensorTrack& track, CalibrationResult& result) {
+  Series x{"odometry_x", "m", track.time, {}};
+  Series y{"odometry_y", "m", track.time, {}};
+  for (const Eigen::Vector3d& position : track.position_enu) {
+    x.value.push_back(position.x());
+    y.value.push_back(position.y());
+  }
+  result.series.push_back(std::move(x));
+  result.series.push_back(std::move(y));
+}
+
 void append_reason(CalibrationResult& result, const std::string& text) {
   result.reason += result.reason.empty() ? text : "; " + text;
 }
@@ -678,8 +690,9 @@ CalibrationResult calibrate_lidar(const SweepSource& sweeps,
                     failed_registrations, count, 100.0 * options.max_failed_registration_share));
     return finish(result);
   }
-  const TrackAlignment alignment =
-      align_track(levelled_track(pass.steps, *result.roll, *result.pitch), options.alignment);
+  const SensorTrack track = levelled_track(pass.steps, *result.roll, *result.pitch);
+  if (options.keep_series) write_path_series(track, result);
+  const TrackAlignment alignment = align_track(track, options.alignment);
   write_yaw(alignment, options, result);
   return finish(result);
 }

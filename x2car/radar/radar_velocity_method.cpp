@@ -227,6 +227,32 @@ WindowEstimates window_estimates(std::span<const RadarSample> samples,
   return estimates;
 }
 
+DopplerEvidence doppler_evidence(std::span<const RadarSample> samples,
+                                 std::span<const std::uint8_t> static_mask, double yaw,
+                                 std::size_t max_points) {
+  const double min_cos = std::cos(rad_from_deg(60.0));
+  std::vector<std::size_t> usable;
+  for (std::size_t i = 0; i < samples.size() && i < static_mask.size(); ++i) {
+    const Eigen::Vector2d& v = samples[i].radar_velocity_in_vehicle;
+    if (static_mask[i] == 0 || v.norm() < 1e-6) continue;
+    const double direction = std::atan2(v.y(), v.x());
+    if (std::abs(std::cos(samples[i].azimuth + yaw - direction)) >= min_cos) usable.push_back(i);
+  }
+  DopplerEvidence evidence;
+  const std::size_t stride =
+      std::max<std::size_t>(1, (usable.size() + max_points - 1) / max_points);
+  for (std::size_t k = 0; k < usable.size(); k += stride) {
+    const RadarSample& sample = samples[usable[k]];
+    const Eigen::Vector2d& v = sample.radar_velocity_in_vehicle;
+    const double direction = std::atan2(v.y(), v.x());
+    evidence.times.push_back(sample.time);
+    evidence.car_speed_mps.push_back(v.norm());
+    evidence.implied_speed_mps.push_back(-sample.range_rate /
+                                         std::cos(sample.azimuth + yaw - direction));
+  }
+  return evidence;
+}
+
 RadarVelocityEstimate estimate_yaw_by_velocity(std::span<const RadarSample> samples,
                                                double max_speed_mps,
                                                const RadarVelocityMethodOptions& options) {
@@ -278,6 +304,7 @@ RadarVelocityEstimate estimate_yaw_by_velocity(std::span<const RadarSample> samp
   const double inflation =
       std::max(1.0, estimate.yaw_std / std::max(estimate.formal_yaw_std, 1e-12));
   estimate.windows = window_estimates(samples, fit.static_mask, fit.model, inflation, options);
+  estimate.doppler = doppler_evidence(samples, fit.static_mask, fit.model.yaw);
   estimate.checks = check_velocity_fit({.samples = samples,
                                         .static_mask = fit.static_mask,
                                         .model = fit.model,
@@ -327,6 +354,10 @@ CalibrationResult velocity_method_result(const RadarVelocityEstimate& estimate) 
       {"displacement_mirrored", static_cast<double>(checks.displacement.mirrored)},
       {"iterations", fit.iterations}};
   result.series.push_back({"window_yaw", "rad", estimate.windows.times, estimate.windows.yaws});
+  result.series.push_back(
+      {"doppler_car_speed", "m/s", estimate.doppler.times, estimate.doppler.car_speed_mps});
+  result.series.push_back(
+      {"doppler_implied_speed", "m/s", estimate.doppler.times, estimate.doppler.implied_speed_mps});
   if (!checks.passed()) {
     std::string reason = "velocity method: the fit fails its checks: ";
     for (std::size_t i = 0; i < checks.failures.size(); ++i) {

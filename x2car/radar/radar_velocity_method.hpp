@@ -71,6 +71,21 @@ WindowEstimates window_estimates(std::span<const RadarSample> samples,
                                  const VelocityModel& model, double inflation,
                                  const RadarVelocityMethodOptions& options);
 
+// The paper's Fig. 9, for plots: static detections as the car's speed at the radar |v| [m/s] and
+// the speed their range rate implies along the motion, -v_r / cos(theta + psi - phi) [m/s] (phi:
+// the direction of v in the car), which lies on the line through the origin with slope s (the
+// speed scale) when the yaw psi is right. An even subsample of at most max_points; detections
+// within 60 deg of perpendicular to the motion are left out (the cosine would divide by ~0).
+struct DopplerEvidence {
+  std::vector<double> times;              // [s]
+  std::vector<double> car_speed_mps;      // |v| at the radar, from the GNSS/INS
+  std::vector<double> implied_speed_mps;  // -v_r / cos(theta + psi - phi)
+};
+
+DopplerEvidence doppler_evidence(std::span<const RadarSample> samples,
+                                 std::span<const std::uint8_t> static_mask, double yaw,
+                                 std::size_t max_points = 3000);
+
 // The velocity method's typed estimate: the global fit is the yaw (it weighs every detection by
 // its information); its standard error the block-clustered one (radar_velocity_fit.hpp), never
 // below the least-squares one or the floors.
@@ -85,6 +100,7 @@ struct RadarVelocityEstimate {
   double speed_scale_std = 0.0;  // [-]; 0 when not estimated
   double formal_yaw_std = 0.0;   // least-squares [rad]
   VelocityChecks checks;
+  DopplerEvidence doppler;
 };
 
 // The whole method on the gated samples; `max_speed_mps` (the fastest car speed seen) only words
@@ -96,7 +112,8 @@ RadarVelocityEstimate estimate_yaw_by_velocity(std::span<const RadarSample> samp
 // The estimate as a result with method "velocity": yaw, yaw_std, support (detections,
 // static_detections, windows, blocks), rejections (not_static), diagnostics (speed_scale,
 // speed_scale_std, coarse_yaw_deg, coarse_consistent_fraction, fit_formal_std_deg,
-// residual_sigma_mps, static_fraction, the checks' figures) and the window_yaw series; status
+// residual_sigma_mps, static_fraction, the checks' figures), the window_yaw series and the
+// Doppler evidence (doppler_car_speed, doppler_implied_speed); status
 // unreliable with the failed checks, or insufficient data with the reason.
 CalibrationResult velocity_method_result(const RadarVelocityEstimate& estimate);
 

@@ -3,7 +3,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -177,6 +179,44 @@ TEST(RadarVelocityMethod, TooShortForAStandardErrorIsInsufficientData) {
   const CalibrationResult result = calibrate_radar(detections, drive.simulation.ins, options);
   EXPECT_EQ(result.status, CalibrationStatus::kInsufficientData) << result.reason;
   EXPECT_THAT(result.reason, HasSubstr("time blocks"));
+}
+
+}  // namespace
+}  // namespace x2car::radar
+
+namespace x2car::radar {
+namespace {
+
+// The paper's Fig. 9 evidence: every static detection's implied speed is the car's speed times
+// the scale; detections near perpendicular to the motion and moving ones are left out; at most
+// max_points, evenly spread.
+TEST(RadarDopplerEvidence, StaticDetectionsLieOnTheScaleLine) {
+  const double yaw = rad_from_deg(90.0);
+  const double scale = 1.02;
+  std::vector<RadarSample> samples;
+  std::vector<std::uint8_t> static_mask;
+  for (int i = 0; i < 1000; ++i) {
+    RadarSample sample;
+    sample.time = 0.05 * i;
+    // Driving straight: the radar moves with the car (the gate keeps straight driving only).
+    sample.car_speed_mps = 5.0 + 0.01 * i;
+    sample.radar_velocity_in_vehicle = Eigen::Vector2d(sample.car_speed_mps, 0.0);
+    // Azimuths across the field of view, some near perpendicular to the motion.
+    sample.azimuth = rad_from_deg(-80.0 + 0.16 * i) - yaw;
+    sample.range_rate = static_range_rate(sample, yaw, scale);
+    samples.push_back(sample);
+    static_mask.push_back(i % 10 == 3 ? 0 : 1);  // every tenth is a moving target
+  }
+  const DopplerEvidence all = doppler_evidence(samples, static_mask, yaw, 5000);
+  ASSERT_GT(all.times.size(), 300U);
+  EXPECT_LT(all.times.size(), 900U);  // the moving ones and those near 90 deg are out
+  for (std::size_t i = 0; i < all.times.size(); ++i) {
+    EXPECT_NEAR(all.implied_speed_mps[i], scale * all.car_speed_mps[i], 1e-9);
+  }
+  const DopplerEvidence few = doppler_evidence(samples, static_mask, yaw, 100);
+  EXPECT_LE(few.times.size(), 100U);
+  EXPECT_GE(few.times.size(), 50U);
+  EXPECT_TRUE(std::is_sorted(few.times.begin(), few.times.end()));
 }
 
 }  // namespace

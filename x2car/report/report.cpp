@@ -29,11 +29,18 @@ double rounded(double value, int digits) {
 
 io::Json number_or_null(double value) { return std::isfinite(value) ? io::Json(value) : nullptr; }
 
+// Series the page draws against each other (a map, the radar's Fig. 9): thinned at one stride so
+// their samples stay paired; the rest are drawn against time and keep their peaks.
+bool drawn_as_pairs(const std::string& name) {
+  return name.starts_with("odometry_") || name.starts_with("doppler_");
+}
+
 // The series, decimated; times kept to the millisecond, values to 6 significant digits.
 io::Json series_json(const std::vector<Series>& all, std::size_t max_points) {
   io::Json list = io::Json::array();
   for (const Series& full : all) {
-    const Series series = decimate_series(full, max_points);
+    const Series series = drawn_as_pairs(full.name) ? thin_series(full, max_points)
+                                                    : decimate_series(full, max_points);
     io::Json time = io::Json::array();
     io::Json value = io::Json::array();
     for (const double t : series.time) time.push_back(number_or_null(std::round(t * 1e3) / 1e3));

@@ -40,4 +40,18 @@ Series decimate_series(const Series& series, std::size_t max_points) {
   return cut;
 }
 
+Series thin_series(const Series& series, std::size_t max_points) {
+  if (max_points < 1) throw std::invalid_argument("thin_series: max_points must be >= 1");
+  const std::size_t count = series.value.size();
+  if (count <= max_points) return series;
+  const std::size_t stride = (count + max_points - 1) / max_points;
+  const bool timed = !series.time.empty();
+  Series cut{series.name, series.unit, {}, {}};
+  for (std::size_t i = 0; i < count; i += stride) {
+    cut.value.push_back(series.value[i]);
+    if (timed) cut.time.push_back(series.time[i]);
+  }
+  return cut;
+}
+
 }  // namespace x2car::report

@@ -14,4 +14,9 @@ namespace x2car::report {
 // of a bucket's extremes; a bucket with none finite keeps its first sample, so gaps stay gaps.
 Series decimate_series(const Series& series, std::size_t max_points);
 
+// `series` with at most max_points samples taken at an even stride: for series drawn against each
+// other (x against y), whose samples must stay paired, so two series of one length keep the same
+// indices. Non-finite values are kept.
+Series thin_series(const Series& series, std::size_t max_points);
+
 }  // namespace x2car::report

@@ -67,5 +67,27 @@ TEST(SeriesDecimation, IndexedSeriesAndBadLimits) {
   EXPECT_THROW(decimate_series(indexed, 1), std::invalid_argument);
 }
 
+// Two series of one length drawn against each other keep their pairs.
+TEST(SeriesDecimation, ThinningKeepsPairs) {
+  Series x{"odometry_x", "m", {}, {}};
+  Series y{"odometry_y", "m", {}, {}};
+  for (int i = 0; i < 10007; ++i) {
+    x.time.push_back(0.1 * i);
+    y.time.push_back(0.1 * i);
+    x.value.push_back(i);
+    y.value.push_back(2.0 * i);
+  }
+  const Series thin_x = thin_series(x, 1000);
+  const Series thin_y = thin_series(y, 1000);
+  ASSERT_EQ(thin_x.value.size(), thin_y.value.size());
+  EXPECT_LE(thin_x.value.size(), 1000U);
+  EXPECT_GE(thin_x.value.size(), 900U);
+  for (std::size_t i = 0; i < thin_x.value.size(); ++i) {
+    EXPECT_EQ(thin_y.value[i], 2.0 * thin_x.value[i]);
+    EXPECT_EQ(thin_x.time[i], thin_y.time[i]);
+  }
+  EXPECT_EQ(thin_series(x, 20000).value.size(), x.value.size());
+}
+
 }  // namespace
 }  // namespace x2car::report

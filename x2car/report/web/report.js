@@ -110,6 +110,42 @@
     return spans;
   }
 
+  // Times on the Unix clock (KITTI, the simulator's camera) shown from the log's start.
+  function shiftTimes(sensor) {
+    const firsts = (sensor.result.series || []).filter((s) => s.time.length).map((s) => s.time[0]);
+    const origin = firsts.length ? Math.min(...firsts) : 0;
+    sensor.timeLabel = 'time [s]';
+    if (!(origin > 1e5)) return;
+    sensor.timeLabel = 'time [s] from ' + new Date(origin * 1000).toISOString().replace('.000Z', 'Z');
+    for (const series of sensor.result.series) {
+      series.time = series.time.map((t) => (t === null ? null : t - origin));
+    }
+    for (const frame of sensor.frames || []) frame.time_s -= origin;
+    if (sensor.evaluation) {
+      for (const segment of sensor.evaluation.segments) {
+        segment.start_s -= origin;
+        segment.end_s -= origin;
+      }
+    }
+  }
+
+  // An axis range that holds the central 96 % of the values and the estimate, so that a few wild
+  // samples (a car standing, a turn) do not flatten the rest; zoom and restore show everything.
+  function robustRange(valueLists, estimate) {
+    const values = [].concat(...valueLists).filter((v) => v !== null && Number.isFinite(v));
+    if (values.length < 20) return {};
+    values.sort((a, b) => a - b);
+    let low = values[Math.floor(0.02 * (values.length - 1))];
+    let high = values[Math.ceil(0.98 * (values.length - 1))];
+    if (estimate !== null && estimate !== undefined) {
+      low = Math.min(low, estimate);
+      high = Math.max(high, estimate);
+    }
+    const pad = Math.max(0.15 * (high - low), 1e-3 * Math.max(1, Math.abs(high)));
+    const round = (v) => Number(v.toPrecision(4));
+    return { min: round(low - pad), max: round(high + pad) };
+  }
+
   // ---- charts ----------------------------------------------------------------------------------
 
   // One ECharts chart in `parent`, with zoom (drag, wheel, slider), hover tooltips and a toolbox.
@@ -141,12 +177,18 @@
     return instance;
   }
 
+  let currentTimeLabel = 'time [s]';
+
   function timeAxis() {
-    return { type: 'value', name: 'time [s]', nameLocation: 'middle', nameGap: 25, scale: true };
+    return { type: 'value', name: currentTimeLabel, nameLocation: 'middle', nameGap: 25,
+             scale: true };
   }
 
-  function valueAxis(name) {
-    return { type: 'value', name: name, scale: true, nameTextStyle: { align: 'left' } };
+  function valueAxis(name, range) {
+    const axis = { type: 'value', name: name, scale: true, nameTextStyle: { align: 'left' } };
+    // A set range's ends are not round numbers: label the round steps only.
+    if (range && range.min !== undefined) axis.axisLabel = { showMinLabel: false, showMaxLabel: false };
+    return Object.assign(axis, range || {});
   }
 
   function line(name, points, extra) {
@@ -213,7 +255,8 @@
   }
 
   function countsTable(title, counts) {
-    const entries = Object.entries(counts || {});
+    // Reasons that left nothing out are noise in a table of what was left out.
+    const entries = Object.entries(counts || {}).filter(([, count]) => count !== 0);
     if (!entries.length) return null;
     const table = el('table', { class: 'counts' });
     table.append(el('tr', {}, el('th', { colspan: 2, text: title })));
@@ -285,6 +328,13 @@
     const r = sensor.result;
     const vehicle = findSeries(r, 'track_heading');
     const device = findSeries(r, 'sensor_heading');
+    const speed = findSeries(r, 'speed');
+    // The track's heading and the offset are noise while the car stands: left out below 0.5 m/s.
+    const moving = (series) => {
+      const values = readable(series);
+      if (!speed || speed.value.length !== values.length) return values;
+      return values.map((v, i) => (speed.value[i] !== null && speed.value[i] >= 0.5 ? v : null));
+    };
     const drawn = [];
     if (vehicle && device) {
       const spans = [];
@@ -296,17 +346,19 @@
       chart(parent, 'Heading: vehicle (track) and sensor', {
         xAxis: timeAxis(), yAxis: valueAxis('heading [deg]'),
         series: [
-          line('vehicle heading', pairs(vehicle.time, unwrapped(readable(vehicle))),
+          line('vehicle heading', pairs(vehicle.time, unwrapped(moving(vehicle))),
                { markArea: spans.length ? { silent: true, itemStyle: { color: 'rgba(26,127,55,0.10)' },
                                              data: spans } : undefined }),
           line('sensor heading', pairs(device.time, unwrapped(readable(device)))),
         ],
-      }, { note: 'Shaded: the straight stretches whose heading offset gave the yaw (the paper\'s Fig. 8a).' });
+      }, { note: 'Shaded: the straight stretches whose heading offset gave the yaw (the paper\'s Fig. 8a). ' +
+           'The vehicle\'s heading is left out where it was slower than 0.5 m/s.' });
       drawn.push('track_heading', 'sensor_heading', 'segment_start_time');
     }
     const offset = findSeries(r, 'heading_offset');
     if (offset) {
-      const series = [line('per-sample offset', pairs(offset.time, readable(offset)),
+      const offsetValues = moving(offset);
+      const series = [line('per-sample offset', pairs(offset.time, offsetValues),
                            { markLine: estimateLine('yaw', r.yaw_deg) })];
       const segmentYaw = findSeries(r, 'segment_yaw');
       if (segmentYaw) {
@@ -315,13 +367,15 @@
         drawn.push('segment_yaw');
       }
       chart(parent, 'Sensor heading − vehicle heading over time', {
-        xAxis: timeAxis(), yAxis: valueAxis('offset [deg]'), series: series,
+        xAxis: timeAxis(), yAxis: valueAxis('offset [deg]', robustRange([offsetValues], r.yaw_deg)),
+        series: series,
       });
       drawn.push('heading_offset');
     }
     const pitch = findSeries(r, 'velocity_pitch');
     if (pitch && r.sensor === 'ins') {
-      const series = [line('per-sample pitch', pairs(pitch.time, readable(pitch)),
+      const pitchValues = moving(pitch);
+      const series = [line('per-sample pitch', pairs(pitch.time, pitchValues),
                            { markLine: estimateLine('pitch', r.pitch_deg) })];
       const segmentPitch = findSeries(r, 'segment_pitch');
       if (segmentPitch) {
@@ -330,7 +384,8 @@
         drawn.push('segment_pitch');
       }
       chart(parent, 'Pitch of the velocity in the sensor frame', {
-        xAxis: timeAxis(), yAxis: valueAxis('pitch [deg]'), series: series,
+        xAxis: timeAxis(), yAxis: valueAxis('pitch [deg]', robustRange([pitchValues], r.pitch_deg)),
+        series: series,
       });
       drawn.push('velocity_pitch');
     }
@@ -345,7 +400,7 @@
     const drawn = [];
     if (roll && pitch) {
       chart(parent, 'Ground plane per frame: roll and pitch', {
-        xAxis: timeAxis(), yAxis: valueAxis('[deg]'),
+        xAxis: timeAxis(), yAxis: valueAxis('[deg]', robustRange([readable(roll), readable(pitch)])),
         series: [line('roll', pairs(roll.time, readable(roll)), { markLine: estimateLine('roll', r.roll_deg) }),
                  line('pitch', pairs(pitch.time, readable(pitch)), { markLine: estimateLine('pitch', r.pitch_deg) })],
       });
@@ -353,7 +408,7 @@
     }
     if (height) {
       chart(parent, 'Ground plane per frame: height of the LiDAR above the road', {
-        xAxis: timeAxis(), yAxis: valueAxis('[m]'),
+        xAxis: timeAxis(), yAxis: valueAxis('[m]', robustRange([height.value], r.z_m)),
         series: [line('height', pairs(height.time, readable(height)), { markLine: estimateLine('z', r.z_m) })],
       });
       drawn.push('ground_height');
@@ -361,12 +416,25 @@
     const east = findSeries(r, 'odometry_x');
     const north = findSeries(r, 'odometry_y');
     if (east && north) {
+      // A map: one metre as long on both axes (equal spans on a square plot).
+      const finite = (values) => values.filter((v) => v !== null);
+      const xs = finite(east.value);
+      const ys = finite(north.value);
+      const span = Math.max(Math.max(...xs) - Math.min(...xs), Math.max(...ys) - Math.min(...ys), 1) * 1.1;
+      const centre = (values) => (Math.max(...values) + Math.min(...values)) / 2;
+      const axis = (name, values) => ({
+        type: 'value', name: name, nameLocation: 'middle', nameGap: 25,
+        min: Number((centre(values) - span / 2).toFixed(1)), max: Number((centre(values) + span / 2).toFixed(1)),
+        axisLabel: { showMinLabel: false, showMaxLabel: false },
+      });
+      const width = parent.clientWidth > 0 ? Math.min(parent.clientWidth, 640) : 560;
       chart(parent, 'LiDAR odometry path (map)', {
-        xAxis: { type: 'value', name: 'x [m]', scale: true, nameLocation: 'middle', nameGap: 25 },
-        yAxis: { type: 'value', name: 'y [m]', scale: true },
+        grid: { left: 70, right: 30, top: 40, bottom: 70 },
+        xAxis: axis('x [m]', xs), yAxis: axis('y [m]', ys),
         tooltip: { trigger: 'item' },
         series: [line('path', pairs(east.value, north.value), { showSymbol: false })],
-      }, { height: 420, note: 'In the first sweep\'s frame, levelled by the estimated roll and pitch.' });
+      }, { height: width - 30, noZoom: true,
+           note: 'In the first sweep\'s frame, levelled by the estimated roll and pitch.' });
       drawn.push('odometry_x', 'odometry_y');
     }
     return drawn;
@@ -377,20 +445,21 @@
   function radarCharts(parent, sensor) {
     const r = sensor.result;
     const drawn = [];
-    const ego = findSeries(r, 'doppler_ego_speed');
-    const projected = findSeries(r, 'doppler_speed_over_cos');
+    const ego = findSeries(r, 'doppler_car_speed');
+    const projected = findSeries(r, 'doppler_implied_speed');
     if (ego && projected) {
       const points = pairs(ego.value, projected.value).filter((p) => p[0] !== null && p[1] !== null);
       const scale = (r.diagnostics || {}).speed_scale || (r.diagnostics || {}).velocity_speed_scale || 1;
       const top = points.reduce((max, p) => Math.max(max, p[0]), 0);
       chart(parent, 'Doppler: −v_r / cos(θ + yaw) against the car\'s speed', {
         xAxis: { type: 'value', name: 'car speed at the radar [m/s]', nameLocation: 'middle', nameGap: 25 },
-        yAxis: valueAxis('[m/s]'),
+        yAxis: valueAxis('[m/s]', robustRange([points.map((p) => p[1])], null)),
         series: [scatter('static detections', points, { symbolSize: 3, large: true }),
-                 line('fit (slope ' + (1 / scale).toFixed(4) + ')', [[0, 0], [top, top / scale]],
+                 line('fit (slope = speed scale ' + scale.toFixed(4) + ')', [[0, 0], [top, top * scale]],
                       { lineStyle: { color: '#c62828', width: 2 } })],
-      }, { scatter: true, note: 'The paper\'s Fig. 9: with the right yaw the static detections lie on one line through the origin.' });
-      drawn.push('doppler_ego_speed', 'doppler_speed_over_cos');
+      }, { scatter: true, noZoom: true, note: 'The paper\'s Fig. 9: with the right yaw the static detections lie on ' +
+           'one line through the origin. Detections within 60° of square to the motion are left out.' });
+      drawn.push('doppler_car_speed', 'doppler_implied_speed');
     }
     const windows = findSeries(r, 'window_yaw');
     if (windows) {
@@ -404,7 +473,7 @@
     const pairsYaw = findSeries(r, 'pair_yaw');
     if (pairsYaw) {
       chart(parent, 'Position method: yaw per object pair', {
-        xAxis: timeAxis(), yAxis: valueAxis('yaw [deg]'),
+        xAxis: timeAxis(), yAxis: valueAxis('yaw [deg]', robustRange([readable(pairsYaw)], r.yaw_deg)),
         series: [scatter('pair', pairs(pairsYaw.time, readable(pairsYaw)),
                          { markLine: estimateLine('yaw', r.yaw_deg) })],
       }, { scatter: true });
@@ -419,9 +488,11 @@
     const window = findSeries(r, 'in_window');
     const spans = window ? runsOf(window).map((span) => [{ xAxis: span[0] }, { xAxis: span[1] }]) : [];
     const series = [];
+    const shown = [];
     for (const key of ['roll', 'pitch', 'yaw']) {
       const frame = findSeries(r, 'frame_' + key);
       if (!frame) continue;
+      shown.push(readable(frame));
       series.push(line(key, pairs(frame.time, readable(frame)), {
         markLine: estimateLine(key, r[key + '_deg']),
         markArea: key === 'roll' && spans.length
@@ -431,7 +502,7 @@
     }
     if (series.length) {
       chart(parent, 'Per-frame angles (shaded: the steady windows that were averaged)', {
-        xAxis: timeAxis(), yAxis: valueAxis('[deg]'), series: series,
+        xAxis: timeAxis(), yAxis: valueAxis('[deg]', robustRange(shown)), series: series,
       });
       if (window) drawn.push('in_window');
     }
@@ -439,7 +510,7 @@
     const v = findSeries(r, 'road_vanishing_point_v');
     if (u && v) {
       chart(parent, 'Road vanishing point per frame', {
-        xAxis: timeAxis(), yAxis: valueAxis('[px]'),
+        xAxis: timeAxis(), yAxis: valueAxis('[px]', robustRange([u.value, v.value])),
         series: [line('u', pairs(u.time, u.value)), line('v', pairs(v.time, v.value))],
       });
       drawn.push('road_vanishing_point_u', 'road_vanishing_point_v');
@@ -459,6 +530,7 @@
     details.addEventListener('toggle', () => {
       if (done || !details.open) return;
       done = true;
+      currentTimeLabel = sensor.timeLabel;
       for (const series of rest) {
         chart(details, series.name + (series.unit ? ' [' + readableUnit(series) + ']' : ''), {
           xAxis: series.time.length ? timeAxis() : { type: 'value', name: 'index' },
@@ -613,7 +685,7 @@
   function frameFigure(parent, frame) {
     const figure = el('figure', { class: 'frame' });
     const canvas = el('canvas', { width: frame.width, height: frame.height, class: 'frame-canvas' });
-    figure.append(canvas, el('figcaption', { text: frame.name + ' — t = ' + number(frame.time_s, 2) + ' s' +
+    figure.append(canvas, el('figcaption', { text: frame.name.split('/').pop() + ' — t = ' + number(frame.time_s, 2) + ' s' +
       (frame.rejection ? ' — not usable: ' + frame.rejection.replace(/_/g, ' ') : '') }));
     parent.append(figure);
     const image = loadImage(frame);
@@ -651,12 +723,23 @@
   function adjustmentView(parent, sensor) {
     const frame = sensor.frames.find((f) => !f.rejection) || sensor.frames[0];
     const r = sensor.result;
-    const start = { roll: r.roll_deg || 0, pitch: r.pitch_deg || 0, yaw: r.yaw_deg || 0 };
+    // The estimate; without one, the per-frame angles' median (a starting point, not a result).
+    const median = (key) => {
+      const frame = findSeries(r, 'frame_' + key);
+      const values = frame ? readable(frame).filter((v) => v !== null).sort((a, b) => a - b) : [];
+      return values.length ? values[Math.floor(values.length / 2)] : 0;
+    };
+    const start = {};
+    for (const key of ['roll', 'pitch', 'yaw']) {
+      start[key] = r[key + '_deg'] !== null && r[key + '_deg'] !== undefined ? r[key + '_deg'] : median(key);
+      start[key] = Number(start[key].toFixed(2));
+    }
     const angles = Object.assign({}, start);
     const box = el('div', { class: 'adjust' });
     parent.append(el('h3', { text: 'Adjust by eye' }), box);
     box.append(el('p', { class: 'note', text: 'Move the sliders until the dashed horizon and the lane guides sit on ' +
-      'the scene; the red cross is where the car drives towards. Export the adjusted mounting below.' }));
+      'the scene; the red cross is where the car drives towards. Export the adjusted mounting below.' +
+      (r.status === 'ok' ? '' : ' No estimate: the sliders start at the per-frame angles\' median.') }));
     const canvas = el('canvas', { width: frame.width, height: frame.height, class: 'frame-canvas adjust-canvas' });
     box.append(canvas);
     const controls = el('div', { class: 'sliders' });
@@ -754,6 +837,8 @@
   // ---- assembly --------------------------------------------------------------------------------
 
   function sensorSection(sensor) {
+    shiftTimes(sensor);
+    currentTimeLabel = sensor.timeLabel;
     const section = el('section', { id: 'sensor-' + sensor.name, class: 'sensor' });
     section.append(el('h2', { text: sensor.name + ' (' + sensor.result.sensor + ')' }));
     root.append(section);
