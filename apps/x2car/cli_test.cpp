@@ -828,6 +828,71 @@ TEST(CalibrateAll, EverySensorAsItsOwnCommandGives) {
   EXPECT_THAT(which.output, HasSubstr("pick one with --child"));
 }
 
+// The route into a user's stack (issue 16 item 5): calibrate all's results merged into their
+// sensor kit file keep every translation and every angle x2car did not estimate, as written.
+TEST(CalibrateAll, ResultsMergeIntoAnAutowareFileAndAReport) {
+  const auto folder = std::filesystem::path(::testing::TempDir()) / "cli_merge";
+  std::filesystem::remove_all(folder);
+  ASSERT_EQ(run_x2car("simulate --scenario urban --duration 40 --seed 6 --sensors ins,radar "
+                      "--out " +
+                      folder.string())
+                .exit_code,
+            0);
+  const auto all_json = folder / "all.json";
+  ASSERT_EQ(run_x2car("calibrate all --input " + folder.string() + " --out " + all_json.string() +
+                      " --report " + (folder / "all.html").string())
+                .exit_code,
+            0);
+  const std::string kit =
+      "# sensor kit of car 7\n"
+      "base_link:\n"
+      "  ins: {x: 1.25, y: -0.3, z: 1.1, roll: 0.00400, pitch: 0.0, yaw: 0.0}\n"
+      "  radar: {x: 3.6, y: 0.1, z: 0.5, roll: 0.0010, pitch: -2e-3, yaw: 0.0}\n"
+      "  camera_link: {x: 1.9, y: 0.0, z: 1.4, roll: 0.0, pitch: 0.05, yaw: 0.0}\n";
+  const auto kit_path = write_temp_file("cli_merge_kit.yaml", kit);
+  const auto merged_path = folder / "merged.yaml";
+  const CliRun merge = run_x2car("convert --input " + all_json.string() + " --merge-into " +
+                                 kit_path.string() + " --out " + merged_path.string());
+  ASSERT_EQ(merge.exit_code, 0) << merge.output;
+  EXPECT_THAT(merge.output, HasSubstr("before -> after"));
+  EXPECT_THAT(merge.output, HasSubstr("kept (not estimated)"));
+  const std::string merged = io::read_text_file(merged_path);
+  const auto combined = io::Json::parse(io::read_text_file(all_json));
+  // The radar's yaw and the GNSS/INS's pitch and yaw are replaced; all else is as written.
+  const std::string radar_yaw =
+      io::format_number(combined.at("radar").at("yaw_deg").get<double>() * M_PI / 180.0);
+  EXPECT_THAT(merged, HasSubstr("  radar: {x: 3.6, y: 0.1, z: 0.5, roll: 0.0010, pitch: -2e-3, "
+                                "yaw: " +
+                                radar_yaw.substr(0, 8)));
+  EXPECT_THAT(merged, HasSubstr("  ins: {x: 1.25, y: -0.3, z: 1.1, roll: 0.00400, pitch: "));
+  EXPECT_THAT(merged, HasSubstr("# sensor kit of car 7\n"));
+  EXPECT_THAT(
+      merged,
+      HasSubstr("  camera_link: {x: 1.9, y: 0.0, z: 1.4, roll: 0.0, pitch: 0.05, yaw: 0.0}"));
+  EXPECT_EQ(io::read_text_file(kit_path), kit);  // the user's file is never changed
+  // Writing over the file merged into is refused.
+  const CliRun over = run_x2car("convert --input " + all_json.string() + " --merge-into " +
+                                kit_path.string() + " --out " + kit_path.string());
+  EXPECT_EQ(over.exit_code, 2) << over.output;
+
+  // The report of the same results, from the files.
+  const auto html = folder / "again.html";
+  const CliRun report = run_x2car("report --result " + all_json.string() + " --input " +
+                                  folder.string() + " --out " + html.string());
+  ASSERT_EQ(report.exit_code, 0) << report.output;
+  const std::string page = io::read_text_file(html);
+  EXPECT_THAT(page, HasSubstr("id=\"x2car-data\""));
+  EXPECT_THAT(page, HasSubstr("\"truth\":{\"roll_deg\""));
+  EXPECT_TRUE(std::filesystem::exists(folder / "all.html"));
+  EXPECT_EQ(run_x2car("report --out " + html.string()).exit_code, 2);
+  const CliRun missing = run_x2car("report --result /no/such.json --out " + html.string());
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_THAT(missing.output, HasSubstr("/no/such.json"));
+  EXPECT_EQ(
+      run_x2car("report --result " + all_json.string() + " --out " + all_json.string()).exit_code,
+      2);
+}
+
 // A user's own layout: x2car.yaml names each sensor's type, input and options.
 TEST(CalibrateAll, AManifestDescribesAUsersLayout) {
   const auto drive =

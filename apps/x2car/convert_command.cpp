@@ -1,14 +1,19 @@
 // x2car convert: turns an extrinsic between the forms users meet (io/extrinsic_formats.hpp).
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
+#include <array>
 #include <iostream>
 #include <optional>
 #include <sstream>
 
 #include "apps/x2car/exit_codes.hpp"
+#include "apps/x2car/output_paths.hpp"
 #include "apps/x2car/subcommand.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/io/extrinsic_formats.hpp"
+#include "x2car/io/extrinsic_merge.hpp"
+#include "x2car/io/result_json.hpp"
 #include "x2car/io/text_lines.hpp"
 
 namespace x2car::cli {
@@ -23,6 +28,7 @@ struct ConvertArguments {
   std::string child_frame;
   bool invert = false;
   std::string output_path;
+  std::string merge_into_path;
 };
 
 constexpr const char* kSourceOnCommandLine = "the command line";
@@ -102,10 +108,74 @@ std::string render_output(const Extrinsic& extrinsic, const std::string& to) {
   return text;
 }
 
+void write_or_print(const std::string& output, const std::string& path) {
+  if (path.empty()) {
+    std::cout << output;
+    if (!output.empty() && output.back() != '\n') std::cout << '\n';
+  } else {
+    io::write_text_file(path, output);
+  }
+}
+
+// --merge-into: the results' estimated angles written into the user's Autoware YAML or URDF,
+// everything else of that file kept (io/extrinsic_merge.hpp); the file itself is never changed.
+int run_merge(const ConvertArguments& arguments, const std::string& text,
+              const std::string& source_name) {
+  if (!io::looks_like_result_json(text)) {
+    throw InputError(source_name, "--merge-into takes a result JSON of calibrate as --input");
+  }
+  if (arguments.invert || arguments.to != "all") {
+    throw std::invalid_argument("--merge-into writes the file's own form: no --to or --invert");
+  }
+  const std::array<NamedPath, 1> outputs = {{{"--out", arguments.output_path}}};
+  const std::array<NamedPath, 2> inputs = {
+      {{"--input", arguments.input_path}, {"--merge-into", arguments.merge_into_path}}};
+  check_output_files(outputs, inputs);
+  const std::string target = io::read_text_file(arguments.merge_into_path);
+  const std::optional<io::ExtrinsicFormat> form = io::detect_extrinsic_format(target);
+  if (form != io::ExtrinsicFormat::kAutoware && form != io::ExtrinsicFormat::kUrdf) {
+    throw InputError(arguments.merge_into_path,
+                     "is neither an Autoware calibration YAML nor a URDF: nothing to merge into");
+  }
+  const std::vector<io::NamedResult> results = io::parse_named_results(text, source_name);
+  // One sensor: --child names its entry in the file. Several: --child picks one; without it
+  // every sensor with an ok result merges into the entry of its own name.
+  std::vector<io::MergeRequest> requests;
+  for (const io::NamedResult& named : results) {
+    const bool single = results.size() == 1;
+    if (!single && !arguments.child_frame.empty() && named.name != arguments.child_frame) continue;
+    if (!named.result.ok()) {
+      spdlog::warn("{}: {} ({}); not merged", named.name, to_string(named.result.status),
+                   named.result.reason);
+      continue;
+    }
+    const std::string child =
+        single && !arguments.child_frame.empty() ? arguments.child_frame : named.name;
+    requests.push_back({child, &named.result});
+  }
+  if (requests.empty()) {
+    throw InputError(source_name,
+                     "holds no ok result to merge" +
+                         (arguments.child_frame.empty() ? std::string()
+                                                        : " for --child " + arguments.child_frame));
+  }
+  const std::string vehicle_frame =
+      arguments.parent_frame.empty() ? std::string("base_link") : arguments.parent_frame;
+  const io::MergeOutcome merged =
+      form == io::ExtrinsicFormat::kAutoware
+          ? io::merge_into_autoware(target, arguments.merge_into_path, vehicle_frame, requests)
+          : io::merge_into_urdf(target, arguments.merge_into_path, vehicle_frame, requests);
+  std::cerr << "before -> after (" << arguments.merge_into_path << "):\n"
+            << io::format_merge_table(merged);
+  write_or_print(merged.text, arguments.output_path);
+  return kExitOk;
+}
+
 int run_convert(const ConvertArguments& arguments) {
   const std::string source_name =
       arguments.input_path.empty() ? kSourceOnCommandLine : arguments.input_path;
   const std::string text = read_source_text(arguments);
+  if (!arguments.merge_into_path.empty()) return run_merge(arguments, text, source_name);
   Extrinsic extrinsic;
   if (arguments.from == kResultForm ||
       (arguments.from == "auto" && io::looks_like_result_json(text))) {
@@ -119,13 +189,7 @@ int run_convert(const ConvertArguments& arguments) {
     extrinsic = parse_input(text, format, arguments, source_name);
   }
   if (arguments.invert) extrinsic = inverse(extrinsic);
-  const std::string output = render_output(extrinsic, arguments.to);
-  if (arguments.output_path.empty()) {
-    std::cout << output;
-    if (!output.empty() && output.back() != '\n') std::cout << '\n';
-  } else {
-    io::write_text_file(arguments.output_path, output);
-  }
+  write_or_print(render_output(extrinsic, arguments.to), arguments.output_path);
   return kExitOk;
 }
 
@@ -167,6 +231,12 @@ RunCommand setup_convert_command(CLI::App& command) {
   command.add_flag("--invert", arguments->invert, "Write child_from_parent instead");
   command.add_option("-o,--out", arguments->output_path, "Write to FILE instead of stdout")
       ->type_name("FILE");
+  command
+      .add_option("--merge-into", arguments->merge_into_path,
+                  "Write the result JSON's estimated angles into this Autoware YAML or URDF, "
+                  "keeping every other value (translations, unobserved angles, other sensors); "
+                  "the merged file goes to --out or stdout, the before -> after table to stderr")
+      ->type_name("FILE");
   command.footer(
       "The extrinsic is parent_from_child (e.g. base_link from lidar), angles as in\n"
       "docs/conventions.md. Forms:\n"
@@ -179,7 +249,9 @@ RunCommand setup_convert_command(CLI::App& command) {
       "\n"
       "Examples:\n"
       "  x2car convert --from xyzrpy-deg 1.2 0 1.8 0.5 -1 2 --to matrix\n"
-      "  x2car convert --input extrinsic.txt --to autoware --child lidar_top");
+      "  x2car convert --input extrinsic.txt --to autoware --child lidar_top\n"
+      "  x2car convert --input lidar.json --merge-into sensor_kit_calibration.yaml \\\n"
+      "      --child velodyne_top_base_link --out merged.yaml");
   return [arguments] { return run_convert(*arguments); };
 }
 

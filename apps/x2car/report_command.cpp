@@ -47,23 +47,6 @@ io::Json read_json(const std::string& path) {
   }
 }
 
-// A result JSON of one sensor ({"sensor", "status", ...}) or `calibrate all`'s, keyed by sensor.
-std::vector<std::pair<std::string, CalibrationResult>> read_results(const std::string& path) {
-  const io::Json json = read_json(path);
-  if (!json.is_object()) throw InputError(path, "expected a result object (calibrate --out)");
-  if (json.contains("sensor") && json.contains("status")) {
-    CalibrationResult result = io::result_from_json(json, path);
-    std::string name = result.sensor;
-    return {{std::move(name), std::move(result)}};
-  }
-  std::vector<std::pair<std::string, CalibrationResult>> results;
-  for (const auto& [name, value] : json.items()) {
-    results.emplace_back(name, io::result_from_json(value, fmt::format("{} ({})", path, name)));
-  }
-  if (results.empty()) throw InputError(path, "holds no result");
-  return results;
-}
-
 std::map<std::string, eval::SensorEvaluation> read_evaluations(const std::string& path) {
   const io::Json json = read_json(path);
   if (!json.is_object() || json.empty()) {
@@ -102,15 +85,18 @@ int run_report(const ReportArguments& arguments) {
                                             {"--truth", arguments.truth_path}}};
   check_output_files(outputs, inputs);
 
-  std::vector<std::pair<std::string, CalibrationResult>> results;
-  if (!arguments.result_path.empty()) results = read_results(arguments.result_path);
+  std::vector<io::NamedResult> results;
+  if (!arguments.result_path.empty()) {
+    results =
+        io::parse_named_results(io::read_text_file(arguments.result_path), arguments.result_path);
+  }
   std::map<std::string, eval::SensorEvaluation> evaluations;
   if (!arguments.eval_path.empty()) evaluations = read_evaluations(arguments.eval_path);
   // Sensors evaluated but not in --result: their whole-log result stands in (without series).
   for (const auto& [name, evaluation] : evaluations) {
     const bool listed =
-        std::ranges::any_of(results, [&](const auto& r) { return r.first == name; });
-    if (!listed) results.emplace_back(name, evaluation.whole_log);
+        std::ranges::any_of(results, [&](const io::NamedResult& r) { return r.name == name; });
+    if (!listed) results.push_back({name, evaluation.whole_log});
   }
 
   std::optional<io::DriveFolder> drive;

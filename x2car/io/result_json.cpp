@@ -336,4 +336,27 @@ CalibrationResult read_result_json(const std::filesystem::path& path) {
   return parse_result_json(read_text_file(path), path.string());
 }
 
+std::vector<NamedResult> parse_named_results(std::string_view text,
+                                             const std::string& source_name) {
+  Json json;
+  try {
+    json = Json::parse(text);
+  } catch (const Json::parse_error& error) {
+    throw InputError(source_name, fmt::format("not JSON: {}", error.what()));
+  }
+  if (!json.is_object())
+    throw InputError(source_name, "expected a result object (calibrate --out)");
+  if (json.contains("sensor") && json.contains("status")) {
+    CalibrationResult result = result_from_json(json, source_name);
+    std::string name = result.sensor;
+    return {{std::move(name), std::move(result)}};
+  }
+  std::vector<NamedResult> results;
+  for (const auto& [name, value] : json.items()) {
+    results.push_back({name, result_from_json(value, fmt::format("{} ({})", source_name, name))});
+  }
+  if (results.empty()) throw InputError(source_name, "holds no result");
+  return results;
+}
+
 }  // namespace x2car::io

@@ -14,6 +14,7 @@
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "x2car/core/calibration_result.hpp"
 
@@ -41,6 +42,15 @@ CalibrationResult result_from_json(const Json& json, const std::string& source_n
 std::string format_result_json(const CalibrationResult& result,
                                const ResultJsonOptions& options = {});
 CalibrationResult parse_result_json(std::string_view text, const std::string& source_name);
+// The results in a result file: one sensor's object ({"sensor", "status", ...}; named by its
+// sensor) or `calibrate all`'s, keyed by sensor name, in the file's order. InputError naming the
+// file (and the sensor) when it is not JSON, holds no result, or one is malformed.
+struct NamedResult {
+  std::string name;
+  CalibrationResult result;
+};
+std::vector<NamedResult> parse_named_results(std::string_view text, const std::string& source_name);
+
 void write_result_json(const std::filesystem::path& path, const CalibrationResult& result,
                        const ResultJsonOptions& options = {});
 CalibrationResult read_result_json(const std::filesystem::path& path);

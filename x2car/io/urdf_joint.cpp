@@ -226,7 +226,57 @@ std::vector<Extrinsic> urdf_joints(std::string_view text, const std::string& sou
   return joints;
 }
 
+// The value of attribute `name` inside the start tag [tag.begin, tag.end): [begin, end) between
+// its quotes, or nullopt. Attribute names end at '=' or space, so "xyz" never matches "rpy".
+std::optional<std::pair<std::size_t, std::size_t>> attribute_value(std::string_view xml,
+                                                                   const XmlTag& tag,
+                                                                   std::string_view name) {
+  std::size_t at = tag.begin;
+  while ((at = xml.find(name, at + 1)) != xml.npos && at < tag.end) {
+    if (kXmlSpace.find(xml[at - 1]) == xml.npos) continue;
+    std::size_t i = at + name.size();
+    while (i < tag.end && kXmlSpace.find(xml[i]) != xml.npos) ++i;
+    if (i >= tag.end || xml[i] != '=') continue;
+    ++i;
+    while (i < tag.end && kXmlSpace.find(xml[i]) != xml.npos) ++i;
+    if (i >= tag.end || (xml[i] != '"' && xml[i] != '\'')) continue;
+    const std::size_t close = xml.find(xml[i], i + 1);
+    if (close == xml.npos || close >= tag.end) return std::nullopt;
+    return std::pair{i + 1, close};
+  }
+  return std::nullopt;
+}
+
 }  // namespace
+
+std::vector<UrdfJointOrigin> urdf_joint_origins(std::string_view text, const std::string& source) {
+  std::string xml = blank_out(std::string(text), "<!--", "-->", source);
+  xml = blank_out(std::move(xml), "<transmission", "</transmission>", source);
+  const UrdfContext urdf{xml, source};
+  std::vector<UrdfJointOrigin> origins;
+  std::size_t from = 0;
+  while (const auto joint = find_tag(xml, "joint", from, xml.size(), source)) {
+    const std::size_t body_end =
+        joint->self_closing ? joint->end : xml.find("</joint>", joint->end);
+    if (body_end == xml.npos)
+      throw InputError(source, urdf.line(*joint), {}, "<joint> without </joint>");
+    const Extrinsic extrinsic = joint_extrinsic(urdf, *joint, body_end);  // checks it, as parse
+    UrdfJointOrigin origin{extrinsic.parent_frame,
+                           extrinsic.child_frame,
+                           urdf.line(*joint),
+                           std::nullopt,
+                           joint->end,
+                           false};
+    if (const auto tag = find_tag(xml, "origin", joint->end, body_end, source)) {
+      origin.has_origin = true;
+      origin.rpy_value = attribute_value(xml, *tag, "rpy");
+      origin.insert_at = tag->begin + std::string_view("<origin").size();
+    }
+    origins.push_back(std::move(origin));
+    from = body_end;
+  }
+  return origins;
+}
 
 std::string format_urdf(const Extrinsic& extrinsic) {
   const Eigen::Vector3d t = extrinsic.parent_from_child.translation();

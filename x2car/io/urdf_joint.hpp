@@ -7,6 +7,8 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "x2car/core/extrinsic.hpp"
 
@@ -20,6 +22,23 @@ std::string format_urdf(const Extrinsic& extrinsic);
 // them otherwise).
 Extrinsic parse_urdf(std::string_view text, const std::string& source_name,
                      const std::optional<std::string>& child_link = std::nullopt);
+
+// Where a joint's rotation is written, for editing a URDF in place (extrinsic_merge.hpp): the
+// offsets are into `text` as given.
+struct UrdfJointOrigin {
+  std::string parent_link;
+  std::string child_link;
+  std::size_t line = 0;  // of the <joint> tag
+  // The rpy attribute's value, between its quotes: [begin, end). Absent without an rpy.
+  std::optional<std::pair<std::size_t, std::size_t>> rpy_value;
+  // Without an rpy: where ` rpy="..."` goes (just after "<origin"), or, without an <origin>,
+  // where a whole `<origin rpy="..."/>` goes (just after the joint's start tag).
+  std::size_t insert_at = 0;
+  bool has_origin = false;
+};
+
+// Every joint's origin in the text (comments and <transmission> blocks passed over), in order.
+std::vector<UrdfJointOrigin> urdf_joint_origins(std::string_view text, const std::string& source);
 
 // True when the text holds a <joint> start tag: how detect_extrinsic_format recognises the form.
 bool has_urdf_joint(std::string_view text);
