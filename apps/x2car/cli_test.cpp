@@ -875,6 +875,25 @@ TEST(CalibrateAll, ResultsMergeIntoAnAutowareFileAndAReport) {
                                 kit_path.string() + " --out " + kit_path.string());
   EXPECT_EQ(over.exit_code, 2) << over.output;
 
+  // convert takes the result to every form and back: the same mounting (yaw estimated, the rest 0).
+  const double yaw = combined.at("radar").at("yaw_deg").get<double>() * M_PI / 180.0;
+  for (const char* form :
+       {"xyzrpy-deg", "xyzrpy-rad", "matrix", "quaternion", "urdf", "autoware", "reference"}) {
+    const auto written = folder / (std::string("radar.") + form);
+    ASSERT_EQ(run_x2car("convert --input " + all_json.string() + " --child radar --to " + form +
+                        " --out " + written.string())
+                  .exit_code,
+              0)
+        << form;
+    const CliRun back = run_x2car("convert --input " + written.string() + " --from " + form +
+                                  " --child radar --to xyzrpy-rad");
+    ASSERT_EQ(back.exit_code, 0) << form << ": " << back.output;
+    const std::vector<double> numbers = numbers_in(back.output);
+    ASSERT_EQ(numbers.size(), 6U) << form << ": " << back.output;
+    for (int i = 0; i < 5; ++i) EXPECT_NEAR(numbers[i], 0.0, 1e-12) << form << " value " << i;
+    EXPECT_NEAR(numbers[5], yaw, 1e-12) << form;
+  }
+
   // The report of the same results, from the files.
   const auto html = folder / "again.html";
   const CliRun report = run_x2car("report --result " + all_json.string() + " --input " +

@@ -1,5 +1,6 @@
 #include "x2car/report/report.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -117,6 +118,30 @@ TEST(ReportHtml, IsSelfContainedAndItsDataReadsBack) {
   // Nothing fetched when it opens.
   EXPECT_EQ(html.find("src=\"http"), std::string::npos);
   EXPECT_EQ(html.find("<link"), std::string::npos);
+}
+
+// A 30-minute log's report stays under ~10 MB (issue 16): four sensors, each with a dozen series
+// of 100 Hz samples, are cut to what a plot shows.
+TEST(ReportHtml, ALongLogsReportStaysSmall) {
+  ReportInput input;
+  input.title = "30 minutes";
+  for (const char* name : {"ins", "lidar", "radar", "camera"}) {
+    CalibrationResult result = lidar_result(0);
+    result.sensor = name;
+    for (int k = 0; k < 12; ++k) {
+      Series series{fmt::format("series_{}", k), "rad", {}, {}};
+      for (int i = 0; i < 30 * 60 * 100; ++i) {
+        series.time.push_back(1.7e9 + 0.01 * i);
+        series.value.push_back(std::sin(0.001 * i + k) + 1e-4 * ((i * 7919) % 101));
+      }
+      result.series.push_back(std::move(series));
+    }
+    input.sensors.push_back({name, result, std::nullopt, std::nullopt, {}});
+  }
+  const std::string html = render_report_html(input);
+  EXPECT_LT(html.size(), 10'000'000U);
+  const io::Json data = report_data_json(input);
+  EXPECT_LE(data["sensors"][3]["result"]["series"][11]["time"].size(), 3000U);
 }
 
 TEST(ReportHtml, OptionsAreChecked) {

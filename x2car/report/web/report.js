@@ -173,6 +173,8 @@
       ],
     };
     instance.setOption(Object.assign(base, option));
+    // The page's grid settles as boxes are added after this one: follow the box's size.
+    new ResizeObserver(() => instance.resize()).observe(div);
     charts.push({ title: title, instance: instance, element: div });
     return instance;
   }
@@ -450,12 +452,14 @@
     if (ego && projected) {
       const points = pairs(ego.value, projected.value).filter((p) => p[0] !== null && p[1] !== null);
       const scale = (r.diagnostics || {}).speed_scale || (r.diagnostics || {}).velocity_speed_scale || 1;
+      // The fitted line over the speeds driven (a line from the origin would start off the axis).
       const top = points.reduce((max, p) => Math.max(max, p[0]), 0);
+      const bottom = points.reduce((min, p) => Math.min(min, p[0]), top);
       chart(parent, 'Doppler: −v_r / cos(θ + yaw) against the car\'s speed', {
         xAxis: { type: 'value', name: 'car speed at the radar [m/s]', nameLocation: 'middle', nameGap: 25 },
         yAxis: valueAxis('[m/s]', robustRange([points.map((p) => p[1])], null)),
         series: [scatter('static detections', points, { symbolSize: 3, large: true }),
-                 line('fit (slope = speed scale ' + scale.toFixed(4) + ')', [[0, 0], [top, top * scale]],
+                 line('fit (slope = speed scale ' + scale.toFixed(4) + ')', [[bottom, bottom * scale], [top, top * scale]],
                       { lineStyle: { color: '#c62828', width: 2 } })],
       }, { scatter: true, noZoom: true, note: 'The paper\'s Fig. 9: with the right yaw the static detections lie on ' +
            'one line through the origin. Detections within 60° of square to the motion are left out.' });
