@@ -1,11 +1,12 @@
 // x2car calibrate all: every sensor of a simulate-style drive folder (io/drive_folder.hpp), each
 // by its own `calibrate SENSOR` command with that command's defaults, so that a sensor's result is
-// byte for byte the one its own command gives; then one JSON keyed by sensor, one Autoware YAML
-// and one URDF with every sensor that calibrated, and a table against the ground truth when the
-// folder has one.
+// byte for byte the one its own command gives (the sensors run side by side); then one JSON keyed
+// by sensor, one Autoware YAML and one URDF with every sensor that calibrated, a table against the
+// ground truth when the folder has one, and on request the report.
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
+#include <tbb/task_group.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -13,14 +14,18 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "apps/x2car/calibration_output.hpp"
+#include "apps/x2car/command_output.hpp"
 #include "apps/x2car/exit_codes.hpp"
+#include "apps/x2car/progress_bar.hpp"
 #include "apps/x2car/report_output.hpp"
 #include "apps/x2car/subcommand.hpp"
 #include "x2car/core/error.hpp"
@@ -205,19 +210,47 @@ int run_calibrate_all(const CalibrateAllArguments& arguments) {
   std::optional<io::GroundTruth> truth;
   if (drive.ground_truth) truth = io::read_ground_truth(*drive.ground_truth);
   const ScratchFolder scratch;
+  // Every sensor as its own task (each calibrator is parallel inside as well: the LiDAR's
+  // odometry and the camera's frames then share the cores), its summary captured and printed in
+  // the sensors' order; an input error of any ends the run (exit 2) once all have stopped.
+  struct SensorTask {
+    fs::path json;
+    std::vector<std::string> line;
+    std::ostringstream output;
+    int exit_code = kExitOk;
+  };
+  std::vector<SensorTask> tasks(drive.sensors.size());
+  for (std::size_t i = 0; i < drive.sensors.size(); ++i) {
+    tasks[i].json = scratch.path() / (drive.sensors[i].name + ".json");
+    tasks[i].line = sensor_arguments(drive.sensors[i], drive, arguments, tasks[i].json);
+  }
+  ProgressBar progress("sensors", spdlog::should_log(spdlog::level::info));
+  std::size_t done = 0;
+  std::mutex progress_mutex;  // the bar draws from one task at a time
+  tbb::task_group group;
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    group.run([&, i] {
+      {
+        const CapturedCommandOutput capture(tasks[i].output);
+        tasks[i].exit_code = run_sensor_command(drive.sensors[i].kind, tasks[i].line);
+      }
+      const std::lock_guard lock(progress_mutex);
+      progress.update(++done, tasks.size());
+    });
+  }
+  group.wait();
+  progress.finish();
   std::vector<SensorRun> runs;
   int exit_code = kExitOk;
-  for (const io::DriveSensor& sensor : drive.sensors) {
-    const fs::path json = scratch.path() / (sensor.name + ".json");
+  for (std::size_t i = 0; i < tasks.size(); ++i) {
+    const io::DriveSensor& sensor = drive.sensors[i];
     std::cout << fmt::format("== {} ({}, {})\n", sensor.name, io::to_string(sensor.kind),
-                             sensor.input.string());
-    std::cout.flush();
-    if (run_sensor_command(sensor.kind, sensor_arguments(sensor, drive, arguments, json)) !=
-        kExitOk) {
-      exit_code = kExitInsufficientData;
-    }
-    io::Json result = io::Json::parse(io::read_text_file(json));
-    runs.push_back({sensor, io::result_from_json(result, json.string()), std::move(result)});
+                             sensor.input.string())
+              << tasks[i].output.str();
+    if (tasks[i].exit_code != kExitOk) exit_code = kExitInsufficientData;
+    io::Json result = io::Json::parse(io::read_text_file(tasks[i].json));
+    runs.push_back(
+        {sensor, io::result_from_json(result, tasks[i].json.string()), std::move(result)});
   }
   std::cout << "\n" << summary_table(runs, truth);
   write_outputs(runs, arguments.output);

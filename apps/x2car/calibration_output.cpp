@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "apps/x2car/command_output.hpp"
 #include "apps/x2car/exit_codes.hpp"
 #include "apps/x2car/report_output.hpp"
 #include "x2car/io/extrinsic_formats.hpp"
@@ -109,7 +110,7 @@ ReportContext report_context(const std::string& kind, const std::string& input_p
 
 int finish_calibration(const CalibrationResult& result, const OutputArguments& arguments,
                        const ReportContext& report) {
-  std::cout << format_result_summary(result);
+  command_output() << format_result_summary(result);
   // -v: the figures behind the estimate, which the summary leaves to the JSON.
   for (const auto& [name, value] : result.diagnostics) spdlog::debug("  {} = {:g}", name, value);
   if (!arguments.json_path.empty()) {

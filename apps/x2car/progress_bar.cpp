@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <iostream>
 
+#include "apps/x2car/command_output.hpp"
+
 namespace x2car::cli {
 namespace {
 
@@ -14,7 +16,7 @@ constexpr auto kRedrawInterval = std::chrono::milliseconds(100);
 }  // namespace
 
 ProgressBar::ProgressBar(std::string label, bool enabled) : label_(std::move(label)) {
-  if (enabled && isatty(STDERR_FILENO) == 1) stream_ = &std::cerr;
+  if (enabled && !command_output_captured() && isatty(STDERR_FILENO) == 1) stream_ = &std::cerr;
 }
 
 ProgressBar::ProgressBar(std::string label, std::ostream& stream)

@@ -13,7 +13,8 @@ namespace x2car::cli {
 
 class ProgressBar {
  public:
-  // Draws on std::cerr when it is a terminal and `enabled`; otherwise does nothing.
+  // Draws on std::cerr when it is a terminal, `enabled` and the command's output is not captured
+  // (command_output.hpp); otherwise does nothing.
   ProgressBar(std::string label, bool enabled = true);
   // Draws on `stream` unconditionally (for tests and for callers that decided themselves).
   ProgressBar(std::string label, std::ostream& stream);
