@@ -802,6 +802,14 @@ TEST(CalibrateAll, EverySensorAsItsOwnCommandGives) {
   // The table against the truth: each estimated angle with its error in parentheses.
   EXPECT_THAT(all.output, HasSubstr("(in parentheses: the error against ground_truth.yaml)"));
   EXPECT_THAT(all.output, ::testing::ContainsRegex("radar +ok .*\\([-+]0\\.0"));
+  // The sensors ran side by side; each one's summary follows its own heading, in order.
+  const std::size_t ins_heading = all.output.find("== ins (ins,");
+  const std::size_t radar_heading = all.output.find("== radar (radar,");
+  ASSERT_NE(ins_heading, std::string::npos) << all.output;
+  ASSERT_NE(radar_heading, std::string::npos) << all.output;
+  EXPECT_LT(ins_heading, all.output.find("ins: vehicle_from_ins"));
+  EXPECT_LT(all.output.find("ins: vehicle_from_ins"), radar_heading);
+  EXPECT_LT(radar_heading, all.output.find("radar: vehicle_from_radar"));
 
   const CliRun radar =
       run_x2car("calibrate radar --input " + (folder / "radar").string() + " --ins " +
