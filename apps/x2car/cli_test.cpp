@@ -883,6 +883,23 @@ TEST(CalibrateAll, ResultsMergeIntoAnAutowareFileAndAReport) {
                                 kit_path.string() + " --out " + kit_path.string());
   EXPECT_EQ(over.exit_code, 2) << over.output;
 
+  // A prior in any form: its translation and the radar's roll and pitch kept, the yaw replaced.
+  const auto prior = write_temp_file("cli_merge_prior.txt", "3.6 0.1 0.5 0.2 -0.1 7\n");
+  const CliRun with_prior =
+      run_x2car("convert --input " + all_json.string() + " --child radar --prior " +
+                prior.string() + " --prior-from xyzrpy-deg --to xyzrpy-deg");
+  ASSERT_EQ(with_prior.exit_code, 0) << with_prior.output;
+  // The mounting is the last line, after the before -> after table.
+  std::string printed = with_prior.output;
+  while (!printed.empty() && printed.back() == '\n') printed.pop_back();
+  const std::vector<double> merged_numbers =
+      numbers_in(printed.substr(printed.find_last_of('\n') + 1));
+  ASSERT_EQ(merged_numbers.size(), 6U) << with_prior.output;
+  EXPECT_NEAR(merged_numbers[0], 3.6, 1e-12);
+  EXPECT_NEAR(merged_numbers[3], 0.2, 1e-9);
+  EXPECT_NEAR(merged_numbers[4], -0.1, 1e-9);
+  EXPECT_NEAR(merged_numbers[5], combined.at("radar").at("yaw_deg").get<double>(), 1e-9);
+
   // convert takes the result to every form and back: the same mounting (yaw estimated, the rest 0).
   const double yaw = combined.at("radar").at("yaw_deg").get<double>() * M_PI / 180.0;
   for (const char* form :

@@ -29,6 +29,8 @@ struct ConvertArguments {
   bool invert = false;
   std::string output_path;
   std::string merge_into_path;
+  std::string prior_path;
+  std::string prior_from = "auto";
 };
 
 constexpr const char* kSourceOnCommandLine = "the command line";
@@ -171,11 +173,54 @@ int run_merge(const ConvertArguments& arguments, const std::string& text,
   return kExitOk;
 }
 
+// --prior: the result's estimated angles on a prior mounting in any form (its translation and
+// other angles kept), written in the --to form.
+int run_with_prior(const ConvertArguments& arguments, const std::string& text,
+                   const std::string& source_name) {
+  if (!io::looks_like_result_json(text)) {
+    throw InputError(source_name, "--prior takes a result JSON of calibrate as --input");
+  }
+  const std::string prior_text = io::read_text_file(arguments.prior_path);
+  const io::ExtrinsicFormat form =
+      resolve_input_format(arguments.prior_from, prior_text, arguments.prior_path);
+  ConvertArguments prior_arguments = arguments;
+  prior_arguments.parent_frame.clear();
+  const Extrinsic prior = parse_input(prior_text, form, prior_arguments, arguments.prior_path);
+  const std::vector<io::NamedResult> results = io::parse_named_results(text, source_name);
+  const io::NamedResult* chosen = nullptr;
+  for (const io::NamedResult& named : results) {
+    if (results.size() == 1 || named.name == arguments.child_frame) chosen = &named;
+  }
+  if (chosen == nullptr) {
+    throw InputError(source_name, "holds the results of several sensors: pick one with --child");
+  }
+  if (!chosen->result.ok()) {
+    throw InputError(source_name,
+                     fmt::format("the result of {} is {}: nothing to merge ({})", chosen->name,
+                                 to_string(chosen->result.status), chosen->result.reason));
+  }
+  const std::string vehicle_frame =
+      arguments.parent_frame.empty() ? std::string("base_link") : arguments.parent_frame;
+  io::MergeOutcome table;
+  table.entries.emplace_back();
+  Extrinsic merged = io::merge_into_extrinsic(prior, arguments.prior_path, vehicle_frame,
+                                              chosen->result, &table.entries.back());
+  if (arguments.invert) merged = inverse(merged);
+  std::cerr << "before -> after (" << arguments.prior_path << "):\n"
+            << io::format_merge_table(table);
+  write_or_print(render_output(merged, arguments.to), arguments.output_path);
+  return kExitOk;
+}
+
 int run_convert(const ConvertArguments& arguments) {
   const std::string source_name =
       arguments.input_path.empty() ? kSourceOnCommandLine : arguments.input_path;
   const std::string text = read_source_text(arguments);
+  if (!arguments.merge_into_path.empty() && !arguments.prior_path.empty()) {
+    throw std::invalid_argument("give --merge-into or --prior, not both");
+  }
   if (!arguments.merge_into_path.empty()) return run_merge(arguments, text, source_name);
+  if (!arguments.prior_path.empty()) return run_with_prior(arguments, text, source_name);
   Extrinsic extrinsic;
   if (arguments.from == kResultForm ||
       (arguments.from == "auto" && io::looks_like_result_json(text))) {
@@ -237,6 +282,15 @@ RunCommand setup_convert_command(CLI::App& command) {
                   "keeping every other value (translations, unobserved angles, other sensors); "
                   "the merged file goes to --out or stdout, the before -> after table to stderr")
       ->type_name("FILE");
+  command
+      .add_option("--prior", arguments->prior_path,
+                  "A prior mounting in any form (--child picks its entry): the result JSON's "
+                  "estimated angles on it, its translation and other angles kept, written as --to")
+      ->type_name("FILE");
+  command.add_option("--prior-from", arguments->prior_from, "Form of --prior (as --from)")
+      ->type_name("FORM")
+      ->check(CLI::IsMember(from_names))
+      ->capture_default_str();
   command.footer(
       "The extrinsic is parent_from_child (e.g. base_link from lidar), angles as in\n"
       "docs/conventions.md. Forms:\n"
@@ -251,7 +305,9 @@ RunCommand setup_convert_command(CLI::App& command) {
       "  x2car convert --from xyzrpy-deg 1.2 0 1.8 0.5 -1 2 --to matrix\n"
       "  x2car convert --input extrinsic.txt --to autoware --child lidar_top\n"
       "  x2car convert --input lidar.json --merge-into sensor_kit_calibration.yaml \\\n"
-      "      --child velodyne_top_base_link --out merged.yaml");
+      "      --child velodyne_top_base_link --out merged.yaml\n"
+      "  x2car convert --input radar.json --prior measured.txt --prior-from xyzrpy-deg \\\n"
+      "      --to autoware --child radar_front");
   return [arguments] { return run_convert(*arguments); };
 }
 

@@ -27,6 +27,10 @@ std::span<const Subcommand> subcommand_table() {
                  "One HTML file a person can check: results, their evidence as charts, the "
                  "segments of an evaluation, a camera's frames and a view to adjust them",
                  &setup_report_command},
+      Subcommand{"inspect",
+                 "What a log holds: an MCAP file's topics, types, counts, rates, and which "
+                 "calibrator can use each",
+                 &setup_inspect_command},
   };
   return kSubcommands;
 }

@@ -173,6 +173,29 @@ MergeOutcome merge_into_urdf(std::string_view text, const std::string& source_na
   return outcome;
 }
 
+Extrinsic merge_into_extrinsic(const Extrinsic& prior, const std::string& source_name,
+                               const std::string& vehicle_frame, const CalibrationResult& result,
+                               MergedEntry* entry) {
+  const MergeRequest request{prior.child_frame, &result};
+  const std::array<std::optional<double>, 3> estimated = estimated_angles(request);
+  check_parent(prior.parent_frame, vehicle_frame, prior.child_frame, source_name, 0);
+  const EulerAngles before = euler_from_rotation(prior.parent_from_child.linear());
+  const std::array<double, 3> before_angles{before.roll, before.pitch, before.yaw};
+  MergedEntry merged;
+  merged.child_frame = prior.child_frame;
+  const Eigen::Vector3d t = prior.parent_from_child.translation();
+  merged.translation = {t.x(), t.y(), t.z()};
+  for (std::size_t i = 0; i < 3; ++i) {
+    merged.angles[i] = {kAngleNames[i], before_angles[i], estimated[i].value_or(before_angles[i]),
+                        estimated[i].has_value()};
+  }
+  if (entry != nullptr) *entry = merged;
+  Extrinsic after = prior;
+  after.parent_from_child = make_transform(
+      EulerAngles{merged.angles[0].after, merged.angles[1].after, merged.angles[2].after}, t);
+  return after;
+}
+
 std::string format_merge_table(const MergeOutcome& outcome) {
   std::string table;
   for (const MergedEntry& entry : outcome.entries) {

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "x2car/core/calibration_result.hpp"
+#include "x2car/core/extrinsic.hpp"
 
 namespace x2car::io {
 
@@ -60,6 +61,15 @@ MergeOutcome merge_into_autoware(std::string_view text, const std::string& sourc
 MergeOutcome merge_into_urdf(std::string_view text, const std::string& source_name,
                              const std::string& vehicle_frame,
                              std::span<const MergeRequest> requests);
+
+// The same on an extrinsic already read (a --prior in any form): `prior` with the angles the result
+// estimated replaced, its translation and other angles kept (numerically: the form's own text is
+// not kept). The entry reports the prior's angles as its Euler angles. InputError naming
+// `source_name` when the prior's parent is not `vehicle_frame`; std::invalid_argument for a
+// result that is not ok.
+Extrinsic merge_into_extrinsic(const Extrinsic& prior, const std::string& source_name,
+                               const std::string& vehicle_frame, const CalibrationResult& result,
+                               MergedEntry* entry = nullptr);
 
 // "before -> after" lines for a person: each entry's angles [deg] with the change, kept ones
 // marked as kept, and its translation (always kept).

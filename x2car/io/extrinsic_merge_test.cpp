@@ -161,5 +161,22 @@ TEST(ExtrinsicMerge, UrdfKeepsAllButTheEstimatedAngles) {
   EXPECT_THROW(merge_into_urdf(kUrdf, "car.urdf", "chassis", requests), InputError);
 }
 
+// A prior in any form: its translation kept exactly, the estimated angle replaced, the others kept.
+TEST(ExtrinsicMerge, IntoAPriorExtrinsic) {
+  const Extrinsic prior{"base_link", "radar_front",
+                        make_transform(EulerAngles{0.0031415, -0.002, 0.0}, {3.7, 0.0, 0.55})};
+  const CalibrationResult radar = ok_result(std::nullopt, std::nullopt, 0.0123);
+  MergedEntry entry;
+  const Extrinsic after = merge_into_extrinsic(prior, "prior.txt", "base_link", radar, &entry);
+  EXPECT_EQ(after.parent_from_child.translation(), prior.parent_from_child.translation());
+  const EulerAngles angles = euler_from_rotation(after.parent_from_child.linear());
+  EXPECT_NEAR(angles.roll, 0.0031415, 1e-12);
+  EXPECT_NEAR(angles.pitch, -0.002, 1e-12);
+  EXPECT_NEAR(angles.yaw, 0.0123, 1e-12);
+  EXPECT_TRUE(entry.angles[2].replaced);
+  EXPECT_FALSE(entry.angles[1].replaced);
+  EXPECT_THROW(merge_into_extrinsic(prior, "prior.txt", "chassis", radar), InputError);
+}
+
 }  // namespace
 }  // namespace x2car::io

@@ -209,20 +209,30 @@ Extrinsic joint_extrinsic(const UrdfContext& urdf, const XmlTag& joint, std::siz
   return extrinsic;
 }
 
-std::vector<Extrinsic> urdf_joints(std::string_view text, const std::string& source) {
+// Calls visit(urdf, joint, body_end) for each <joint> in order (its body ends at body_end), with
+// comments and <transmission> blocks blanked out.
+template <typename Visit>
+void for_each_joint(std::string_view text, const std::string& source, Visit visit) {
   std::string xml = blank_out(std::string(text), "<!--", "-->", source);
   xml = blank_out(std::move(xml), "<transmission", "</transmission>", source);
   const UrdfContext urdf{xml, source};
-  std::vector<Extrinsic> joints;
   std::size_t from = 0;
   while (const auto joint = find_tag(xml, "joint", from, xml.size(), source)) {
     const std::size_t body_end =
         joint->self_closing ? joint->end : xml.find("</joint>", joint->end);
     if (body_end == xml.npos)
       throw InputError(source, urdf.line(*joint), {}, "<joint> without </joint>");
-    joints.push_back(joint_extrinsic(urdf, *joint, body_end));
+    visit(urdf, *joint, body_end);
     from = body_end;
   }
+}
+
+std::vector<Extrinsic> urdf_joints(std::string_view text, const std::string& source) {
+  std::vector<Extrinsic> joints;
+  for_each_joint(text, source,
+                 [&](const UrdfContext& urdf, const XmlTag& joint, std::size_t body_end) {
+                   joints.push_back(joint_extrinsic(urdf, joint, body_end));
+                 });
   return joints;
 }
 
@@ -250,31 +260,23 @@ std::optional<std::pair<std::size_t, std::size_t>> attribute_value(std::string_v
 }  // namespace
 
 std::vector<UrdfJointOrigin> urdf_joint_origins(std::string_view text, const std::string& source) {
-  std::string xml = blank_out(std::string(text), "<!--", "-->", source);
-  xml = blank_out(std::move(xml), "<transmission", "</transmission>", source);
-  const UrdfContext urdf{xml, source};
   std::vector<UrdfJointOrigin> origins;
-  std::size_t from = 0;
-  while (const auto joint = find_tag(xml, "joint", from, xml.size(), source)) {
-    const std::size_t body_end =
-        joint->self_closing ? joint->end : xml.find("</joint>", joint->end);
-    if (body_end == xml.npos)
-      throw InputError(source, urdf.line(*joint), {}, "<joint> without </joint>");
-    const Extrinsic extrinsic = joint_extrinsic(urdf, *joint, body_end);  // checks it, as parse
-    UrdfJointOrigin origin{extrinsic.parent_frame,
-                           extrinsic.child_frame,
-                           urdf.line(*joint),
-                           std::nullopt,
-                           joint->end,
-                           false};
-    if (const auto tag = find_tag(xml, "origin", joint->end, body_end, source)) {
-      origin.has_origin = true;
-      origin.rpy_value = attribute_value(xml, *tag, "rpy");
-      origin.insert_at = tag->begin + std::string_view("<origin").size();
-    }
-    origins.push_back(std::move(origin));
-    from = body_end;
-  }
+  for_each_joint(
+      text, source, [&](const UrdfContext& urdf, const XmlTag& joint, std::size_t body_end) {
+        const Extrinsic extrinsic = joint_extrinsic(urdf, joint, body_end);  // checks it, as parse
+        UrdfJointOrigin origin{extrinsic.parent_frame,
+                               extrinsic.child_frame,
+                               urdf.line(joint),
+                               std::nullopt,
+                               joint.end,
+                               false};
+        if (const auto tag = find_tag(urdf.xml, "origin", joint.end, body_end, source)) {
+          origin.has_origin = true;
+          origin.rpy_value = attribute_value(urdf.xml, *tag, "rpy");
+          origin.insert_at = tag->begin + std::string_view("<origin").size();
+        }
+        origins.push_back(std::move(origin));
+      });
   return origins;
 }
 
