@@ -181,10 +181,21 @@ void read_chunk(std::string_view content, const McapHandlers& handlers, const st
   const std::string_view records = fields.bytes(records_size, "chunk.records");
   std::string_view plain = records;
   if (!compression.empty()) {
-    // A declared size past any plausible chunk is a corrupt length, not a reason to allocate.
-    if (size > (std::uint64_t{1} << 34)) {
-      throw InputError(
-          file, fmt::format("the chunk at byte {} declares {} bytes uncompressed", offset, size));
+    // A declared size past any plausible chunk (writers cut chunks at a few megabytes; one huge
+    // message may make one larger) is a corrupt length, not a reason to allocate.
+    constexpr std::uint64_t kMaxChunkBytes = std::uint64_t{1} << 30;
+    if (size > kMaxChunkBytes) {
+      throw InputError(file, fmt::format("the chunk at byte {} declares {} bytes uncompressed; "
+                                         "x2car reads chunks of up to {} bytes",
+                                         offset, size, kMaxChunkBytes));
+    }
+    if (compression == "zstd") {
+      const unsigned long long framed = ZSTD_getFrameContentSize(records.data(), records.size());
+      if (framed != ZSTD_CONTENTSIZE_UNKNOWN && framed != size) {
+        throw InputError(file, fmt::format("the zstd chunk at byte {} holds {} bytes, not the {} "
+                                           "it declares",
+                                           offset, framed, size));
+      }
     }
     buffer.resize(size);
     if (compression == "zstd") {
