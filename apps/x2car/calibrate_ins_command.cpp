@@ -1,11 +1,15 @@
 // x2car calibrate ins: the GNSS/INS mounting yaw and pitch from a drive (x2car/ins).
 #include <spdlog/spdlog.h>
 
+#include <filesystem>
+
 #include "apps/x2car/calibration_output.hpp"
 #include "apps/x2car/subcommand.hpp"
 #include "apps/x2car/track_options.hpp"
+#include "x2car/core/error.hpp"
 #include "x2car/core/rotation.hpp"
 #include "x2car/ins/ins_calibration.hpp"
+#include "x2car/io/drive_folder.hpp"
 #include "x2car/io/ins_log.hpp"
 
 namespace x2car::cli {
@@ -39,9 +43,28 @@ ins::InsCalibrationOptions calibration_options(const CalibrateInsArguments& argu
   return options;
 }
 
+// The GNSS/INS log a folder names: a drive folder (x2car simulate's layout, or any folder with an
+// x2car.yaml manifest) holds one; any other folder is read as KITTI OXTS, as before.
+std::filesystem::path ins_log_of(const std::filesystem::path& input) {
+  std::error_code error;
+  if (!std::filesystem::is_directory(input, error)) return input;
+  const bool drive = std::filesystem::exists(input / "ins", error) ||
+                     std::filesystem::exists(input / io::kDriveManifestName, error);
+  if (!drive) return input;
+  const io::DriveFolder folder = io::find_drive_sensors(input);
+  if (!folder.ins_log) {
+    throw InputError(input.string(),
+                     "the drive folder has no GNSS/INS log (ins/novatel_enu.csv, "
+                     "or a sensor of type ins in x2car.yaml)");
+  }
+  spdlog::info("the drive's GNSS/INS log: {}", folder.ins_log->string());
+  return *folder.ins_log;
+}
+
 int run_calibrate_ins(const CalibrateInsArguments& arguments) {
   check_output_arguments(arguments.output, {{{"--input", arguments.input_path}}});
-  const io::InsLog log = io::read_ins_log(arguments.input_path, read_options(arguments));
+  const io::InsLog log =
+      io::read_ins_log(ins_log_of(arguments.input_path), read_options(arguments));
   for (const std::string& notice : log.notices) spdlog::warn("{}", notice);
   spdlog::info("read {} GNSS/INS samples ({}) from {}", log.records.size(),
                io::to_string(log.format), arguments.input_path);
@@ -55,8 +78,8 @@ RunCommand setup_calibrate_ins_command(CLI::App& command) {
   auto arguments = std::make_shared<CalibrateInsArguments>();
   command
       .add_option("-i,--input", arguments->input_path,
-                  "GNSS/INS log: novatel_enu.csv, a generic CSV with a header, or a KITTI OXTS "
-                  "folder")
+                  "GNSS/INS log: novatel_enu.csv, a generic CSV with a header, a KITTI OXTS "
+                  "folder, or a drive folder holding one (ins/novatel_enu.csv or x2car.yaml)")
       ->type_name("PATH")
       ->required();
   command.add_option("--format", arguments->format, "Form of the input; auto detects it")

@@ -937,6 +937,31 @@ TEST(CalibrateAll, ResultsMergeIntoAnAutowareFileAndAReport) {
       2);
 }
 
+// calibrate ins finds the log in a drive folder (issue 17 item 5): the same result as given the
+// file.
+TEST(CalibrateIns, FindsTheLogInADriveFolder) {
+  const auto folder = std::filesystem::path(::testing::TempDir()) / "cli_ins_drive_folder";
+  std::filesystem::remove_all(folder);
+  ASSERT_EQ(run_x2car("simulate --scenario urban --duration 30 --seed 8 --out " + folder.string())
+                .exit_code,
+            0);
+  const auto from_folder = folder / "from_folder.json";
+  const auto from_file = folder / "from_file.json";
+  ASSERT_EQ(run_x2car("calibrate ins --input " + folder.string() + " --reproducible --out " +
+                      from_folder.string())
+                .exit_code,
+            0);
+  ASSERT_EQ(run_x2car("calibrate ins --input " + (folder / "ins" / "novatel_enu.csv").string() +
+                      " --reproducible --out " + from_file.string())
+                .exit_code,
+            0);
+  EXPECT_EQ(io::read_text_file(from_folder), io::read_text_file(from_file));
+  std::filesystem::remove(folder / "ins" / "novatel_enu.csv");
+  const CliRun missing = run_x2car("calibrate ins --input " + folder.string());
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_THAT(missing.output, HasSubstr("novatel_enu.csv"));
+}
+
 // A user's own layout: x2car.yaml names each sensor's type, input and options.
 TEST(CalibrateAll, AManifestDescribesAUsersLayout) {
   const auto drive =

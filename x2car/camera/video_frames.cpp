@@ -18,6 +18,7 @@
 #include "x2car/core/error.hpp"
 #include "x2car/core/options_check.hpp"
 #include "x2car/io/image_folder.hpp"
+#include "x2car/io/timestamps_file.hpp"
 
 namespace x2car::camera {
 
@@ -115,7 +116,7 @@ CameraFrameSource camera_frames_from_video(const std::filesystem::path& path,
   const std::size_t count = count_frames(path, container_rate_hz);
   CameraFrameSource frames;
   if (options.timestamps) {
-    frames.times = io::read_image_timestamps(*options.timestamps);
+    frames.times = io::read_timestamps_file(*options.timestamps);
     if (frames.times.size() != count) {
       throw InputError(options.timestamps->string(),
                        fmt::format("holds {} timestamps but {} has {} frames", frames.times.size(),

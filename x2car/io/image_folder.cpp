@@ -13,6 +13,7 @@
 #include "x2car/io/file_stem_time.hpp"
 #include "x2car/io/novatel_csv.hpp"
 #include "x2car/io/text_lines.hpp"
+#include "x2car/io/timestamps_file.hpp"
 
 namespace x2car::io {
 namespace {
@@ -64,7 +65,7 @@ ImageFolder list_with_times(const fs::path& images_folder,
     throw InputError(images_folder.string(), "holds no images (*.png, *.jpg, *.jpeg)");
   }
   if (timestamps) {
-    const std::vector<double> times = read_image_timestamps(*timestamps);
+    const std::vector<double> times = read_timestamps_file(*timestamps);
     if (times.size() != files.size()) {
       throw InputError(timestamps->string(),
                        fmt::format("holds {} timestamps but {} has {} images", times.size(),
@@ -149,30 +150,6 @@ ImageFolder list_images(const fs::path& folder, std::optional<int> camera_index)
   const fs::path named = folder.filename().empty() ? folder.parent_path() : folder;
   if (!timestamps) timestamps = existing_file(named.parent_path() / "timestamps.txt");
   return list_with_times(folder, timestamps);
-}
-
-std::vector<double> read_image_timestamps(const std::filesystem::path& path) {
-  const std::string text = read_text_file(path);
-  std::vector<double> times;
-  std::vector<std::size_t> lines;
-  for (const TextLine& line : split_lines(text)) {
-    const std::string_view field = trim(line.text);
-    if (const std::optional<std::int64_t> ns = parse_utc_time(field)) {
-      times.push_back(seconds_between(*ns, 0));
-    } else {
-      times.push_back(parse_double(field, {path.string(), line.number, "timestamp"}));
-    }
-    lines.push_back(line.number);
-  }
-  for (std::size_t i = 1; i < times.size(); ++i) {
-    if (!(times[i] > times[i - 1])) {
-      throw InputError(
-          path.string(), lines[i], "timestamp",
-          fmt::format("the time does not increase (line {}: {} s, line {}: {} s)", lines[i - 1],
-                      format_number(times[i - 1]), lines[i], format_number(times[i])));
-    }
-  }
-  return times;
 }
 
 }  // namespace x2car::io

@@ -41,8 +41,4 @@ struct ImageFolder {
 ImageFolder list_images(const std::filesystem::path& folder,
                         std::optional<int> camera_index = std::nullopt);
 
-// A timestamps file: one time per non-blank line, a UTC date-time (as Unix seconds) or plain
-// seconds, strictly increasing; InputError naming the file and line otherwise.
-std::vector<double> read_image_timestamps(const std::filesystem::path& path);
-
 }  // namespace x2car::io

@@ -13,6 +13,7 @@
 #include "x2car/io/kitti_velodyne.hpp"
 #include "x2car/io/pcd.hpp"
 #include "x2car/io/text_lines.hpp"
+#include "x2car/io/timestamps_file.hpp"
 
 namespace x2car::lidar {
 namespace {
@@ -54,9 +55,11 @@ std::vector<double> read_times_file(const fs::path& path) {
   return times;
 }
 
-std::vector<SweepFile> attach_times_file(const std::vector<fs::path>& files,
-                                         const fs::path& times_path) {
-  const std::vector<double> times = read_times_file(times_path);
+// The files with the times of `times_path` (one per file, name order), read by `read_times`.
+std::vector<SweepFile> attach_times_file(
+    const std::vector<fs::path>& files, const fs::path& times_path,
+    std::vector<double> (*read_times)(const fs::path&) = &read_times_file) {
+  const std::vector<double> times = read_times(times_path);
   if (times.size() != files.size()) {
     throw InputError(times_path.string(),
                      fmt::format("holds {} times but the folder has {} sweep files", times.size(),
@@ -92,6 +95,28 @@ SweepFolder list_kitti(const fs::path& folder) {
                      "is missing: KITTI scans take their times from times.txt beside velodyne/");
   }
   result.sweeps = attach_times_file(files, times_path);
+  result.time_source = times_path.string();
+  sort_and_check(result.sweeps);
+  return result;
+}
+
+// KITTI raw: `velodyne_points/data/*.bin` with `velodyne_points/timestamps.txt`, one UTC date-time
+// per scan in name order: the moment the scanner faced forward, half way through its sweep (KITTI's
+// timestamps_start.txt and timestamps_end.txt beside it are the sweep's ends).
+SweepFolder list_kitti_raw(const fs::path& points) {
+  SweepFolder result;
+  result.folder = points / "data";
+  result.format = SweepFileFormat::kKittiBin;
+  const std::vector<fs::path> files =
+      files_with_extension(result.folder, ".bin", result.ignored_files);
+  if (files.empty()) throw InputError(result.folder.string(), "holds no .bin KITTI scans");
+  const fs::path times_path = points / "timestamps.txt";
+  if (!fs::is_regular_file(times_path)) {
+    throw InputError(times_path.string(),
+                     "is missing: KITTI raw scans take their times from velodyne_points/"
+                     "timestamps.txt");
+  }
+  result.sweeps = attach_times_file(files, times_path, &io::read_timestamps_file);
   result.time_source = times_path.string();
   sort_and_check(result.sweeps);
   return result;
@@ -135,6 +160,11 @@ SweepFolder list_pcd(const fs::path& folder, std::vector<fs::path> files, std::s
 
 std::optional<SweepFolder> try_folder(const fs::path& folder) {
   if (fs::is_directory(folder / "velodyne")) return list_kitti(folder);
+  if (fs::is_directory(folder / "velodyne_points"))
+    return list_kitti_raw(folder / "velodyne_points");
+  if (folder.filename() == "velodyne_points" && fs::is_directory(folder / "data")) {
+    return list_kitti_raw(folder);
+  }
   std::size_t others = 0;
   std::vector<fs::path> pcd_files = files_with_extension(folder, ".pcd", others);
   if (pcd_files.empty()) return std::nullopt;
@@ -153,7 +183,8 @@ SweepFolder list_sweeps(const fs::path& folder) {
   }
   throw InputError(folder.string(),
                    "holds no LiDAR sweeps: expected *.pcd files, velodyne/*.bin with times.txt, "
-                   "or a lidar/ subfolder holding either");
+                   "KITTI raw velodyne_points/ (data/*.bin, timestamps.txt), or a lidar/ "
+                   "subfolder holding one of them");
 }
 
 io::PointCloud read_sweep(const SweepFolder& folder, const SweepFile& sweep) {

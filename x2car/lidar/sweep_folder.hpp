@@ -2,12 +2,16 @@
 //
 // A folder holds either
 //   - PCD files (`*.pcd`, any case), one sweep each, named by the sweep's time: seconds with a
-//     fraction ("000012.300000.pcd", "1541234567.123456.pcd") or whole nanoseconds since an epoch
-//     (16 digits or more: "1541234567123456789.pcd"); or any names plus a `times.txt` beside them
+//     fraction ("000012.300000.pcd", "1541234567.123456.pcd"), whole nanoseconds since an epoch
+//     (16 digits or more: "1541234567123456789.pcd") or ROS 2's seconds_nanoseconds
+//     ("1541234567_123456789.pcd"); or any names plus a `times.txt` beside them
 //     with one time [s] per file in name order; or any names, when the points hold absolute times
 //     (Unix or GPS seconds, io/pcd.hpp): the earliest point's time is the sweep's; or
 //   - KITTI scans: `velodyne/*.bin` with `times.txt` (one time [s] per scan, in name order) in the
-//     folder itself.
+//     folder itself; or
+//   - KITTI raw scans: `velodyne_points/data/*.bin` with `velodyne_points/timestamps.txt` (one UTC
+//     date-time per scan, the mid-sweep moment the scanner faced forward), the drive folder or
+//     velodyne_points/ itself given.
 // A simulate-style drive folder is accepted too: its `lidar/` subfolder is used. Other files are
 // ignored and counted. The sweeps are returned sorted by time, whatever order the names sort in.
 #pragma once

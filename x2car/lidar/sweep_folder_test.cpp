@@ -98,6 +98,47 @@ TEST(SweepFolder, ReadsKittiScansFromADriveFolder) {
   EXPECT_FLOAT_EQ(read_sweep(sweeps, sweeps.sweeps[1]).points.at(0).x, 2.0f);
 }
 
+// ROS 2 exporters name sweeps <sec>_<nanosec>.pcd.
+TEST(SweepFolder, ReadsRos2SecondsNanosecondsNames) {
+  const fs::path folder = fresh_folder("ros2_names");
+  io::write_pcd(folder / "1541234567_200000000.pcd", one_point_cloud(2.0f));
+  io::write_pcd(folder / "1541234567_100000000.pcd", one_point_cloud(1.0f));
+  io::write_pcd(folder / "1541234568_500.pcd", one_point_cloud(3.0f));  // 500 ns, not 0.5 s
+  const SweepFolder sweeps = list_sweeps(folder);
+  ASSERT_EQ(sweeps.sweeps.size(), 3u);
+  EXPECT_NEAR(sweeps.sweeps[0].time, 1541234567.1, 1e-6);
+  EXPECT_NEAR(sweeps.sweeps[1].time, 1541234567.2, 1e-6);
+  EXPECT_NEAR(sweeps.sweeps[2].time, 1541234568.0, 1e-6);
+  // Ten digits of nanoseconds is not a stamp.
+  const fs::path odd = fresh_folder("ros2_names_odd");
+  io::write_pcd(odd / "1541234567_1234567890.pcd", one_point_cloud(1.0f));
+  expect_input_error([&] { list_sweeps(odd); }, (odd / "1541234567_1234567890.pcd").string(), 0);
+}
+
+// KITTI raw drives keep their scans in velodyne_points/data with date-times in timestamps.txt.
+TEST(SweepFolder, ReadsKittiRawVelodynePoints) {
+  const fs::path drive = fresh_folder("kitti_raw") / "2011_09_26_drive_0001_sync";
+  fs::create_directories(drive / "velodyne_points" / "data");
+  io::write_kitti_velodyne(drive / "velodyne_points" / "data" / "0000000000.bin",
+                           one_point_cloud(1.0f));
+  io::write_kitti_velodyne(drive / "velodyne_points" / "data" / "0000000001.bin",
+                           one_point_cloud(2.0f));
+  io::write_text_file(drive / "velodyne_points" / "timestamps.txt",
+                      "2011-09-26 13:02:25.964389445\n2011-09-26 13:02:26.067980210\n");
+  for (const fs::path& given : {drive, drive / "velodyne_points"}) {
+    const SweepFolder sweeps = list_sweeps(given);
+    EXPECT_EQ(sweeps.format, SweepFileFormat::kKittiBin);
+    ASSERT_EQ(sweeps.sweeps.size(), 2u);
+    // 2011-09-26 13:02:25.964389445 UTC
+    EXPECT_NEAR(sweeps.sweeps[0].time, 1317042145.964389445, 1e-6);
+    EXPECT_NEAR(sweeps.sweeps[1].time - sweeps.sweeps[0].time, 0.103590765, 1e-6);
+    EXPECT_FLOAT_EQ(read_sweep(sweeps, sweeps.sweeps[1]).points.at(0).x, 2.0f);
+  }
+  fs::remove(drive / "velodyne_points" / "timestamps.txt");
+  expect_input_error([&] { list_sweeps(drive); },
+                     (drive / "velodyne_points" / "timestamps.txt").string(), 0);
+}
+
 TEST(SweepFolder, NamesWhatIsWrong) {
   const fs::path empty = fresh_folder("empty");
   EXPECT_THAT(input_error_of([&] { list_sweeps(empty); }).what(), HasSubstr("holds no LiDAR"));

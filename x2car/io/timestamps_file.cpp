@@ -1,0 +1,40 @@
+#include "x2car/io/timestamps_file.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "x2car/core/error.hpp"
+#include "x2car/io/novatel_csv.hpp"
+#include "x2car/io/text_lines.hpp"
+
+namespace x2car::io {
+
+std::vector<double> read_timestamps_file(const std::filesystem::path& path) {
+  const std::string text = read_text_file(path);
+  std::vector<double> times;
+  std::vector<std::size_t> lines;
+  for (const TextLine& line : split_lines(text)) {
+    const std::string_view field = trim(line.text);
+    if (const std::optional<std::int64_t> ns = parse_utc_time(field)) {
+      times.push_back(seconds_between(*ns, 0));
+    } else {
+      times.push_back(parse_double(field, {path.string(), line.number, "timestamp"}));
+    }
+    lines.push_back(line.number);
+  }
+  for (std::size_t i = 1; i < times.size(); ++i) {
+    if (!(times[i] > times[i - 1])) {
+      throw InputError(
+          path.string(), lines[i], "timestamp",
+          fmt::format("the time does not increase (line {}: {} s, line {}: {} s)", lines[i - 1],
+                      format_number(times[i - 1]), lines[i], format_number(times[i])));
+    }
+  }
+  return times;
+}
+
+}  // namespace x2car::io
