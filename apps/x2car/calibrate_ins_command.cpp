@@ -1,7 +1,11 @@
 // x2car calibrate ins: the GNSS/INS mounting yaw and pitch from a drive (x2car/ins).
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "apps/x2car/calibration_output.hpp"
 #include "apps/x2car/subcommand.hpp"
@@ -20,6 +24,7 @@ struct CalibrateInsArguments {
   std::string format = "auto";
   std::string yaw_convention;  // empty: as the CSV header says
   std::string angle_unit = io::to_string(io::InsCsvOptions{}.angle_unit);
+  std::vector<std::string> columns;  // --columns time=GPS Time,east=E,...
   TrackArguments track;
   bool spline_velocity = false;
   OutputArguments output;
@@ -32,6 +37,15 @@ io::InsReadOptions read_options(const CalibrateInsArguments& arguments) {
     options.csv.yaw_convention = io::yaw_convention_from_string(arguments.yaw_convention);
   }
   options.csv.angle_unit = io::angle_unit_from_string(arguments.angle_unit);
+  for (const std::string& pair : arguments.columns) {
+    const std::size_t equals = pair.find('=');
+    if (equals == std::string::npos || equals == 0 || equals + 1 == pair.size()) {
+      throw std::invalid_argument(
+          fmt::format("--columns: '{}' is not NAME=COLUMN (e.g. time=GPS Time,east=E)", pair));
+    }
+    options.csv.column_names[pair.substr(0, equals)] = pair.substr(equals + 1);
+  }
+  options.csv.Check();
   return options;
 }
 
@@ -99,6 +113,12 @@ RunCommand setup_calibrate_ins_command(CLI::App& command) {
       ->type_name("UNIT")
       ->check(CLI::IsMember(io::angle_unit_names()))
       ->capture_default_str();
+  command
+      .add_option("--columns", arguments->columns,
+                  "A generic CSV's header names read as x2car's, NAME=COLUMN separated by commas, "
+                  "e.g. time_ms=Timestamp,east=E,north=N,up=U,heading_deg=Hdg (docs/formats.md)")
+      ->type_name("LIST")
+      ->delimiter(',');
   add_track_options(command, arguments->track, "samples");
   command.add_flag("--spline-velocity", arguments->spline_velocity,
                    "Ignore the device's velocity; use the smoothed track's");

@@ -956,6 +956,30 @@ TEST(CalibrateIns, FindsTheLogInADriveFolder) {
                 .exit_code,
             0);
   EXPECT_EQ(io::read_text_file(from_folder), io::read_text_file(from_file));
+  // A vendor's header read through --columns: the same result as x2car's own names.
+  std::string csv = io::read_text_file(folder / "ins" / "ins.csv");
+  const std::string header = "time,x,y,z,vx,vy,vz,roll,pitch,yaw\n";
+  ASSERT_EQ(csv.rfind(header, 0), 0U);
+  csv.replace(0, header.size(), "GPS Time,E,N,U,VE,VN,VU,R,P,Yaw Angle\n");
+  io::write_text_file(folder / "vendor.csv", csv);
+  const auto from_ins_csv = folder / "from_ins_csv.json";
+  const auto from_vendor = folder / "from_vendor.json";
+  ASSERT_EQ(run_x2car("calibrate ins --input " + (folder / "ins" / "ins.csv").string() +
+                      " --reproducible --out " + from_ins_csv.string())
+                .exit_code,
+            0);
+  const CliRun vendor = run_x2car(
+      "calibrate ins --input " + (folder / "vendor.csv").string() +
+      " --columns 'time=GPS Time,east=E,north=N,up=U,ve=VE,vn=VN,vu=VU,roll=R,pitch=P,yaw=Yaw "
+      "Angle' --reproducible --out " +
+      from_vendor.string());
+  ASSERT_EQ(vendor.exit_code, 0) << vendor.output;
+  EXPECT_EQ(io::read_text_file(from_vendor), io::read_text_file(from_ins_csv));
+  const CliRun bad =
+      run_x2car("calibrate ins --input " + (folder / "vendor.csv").string() + " --columns speed=V");
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_THAT(bad.output, HasSubstr("'speed' is not a column x2car reads"));
+
   std::filesystem::remove(folder / "ins" / "novatel_enu.csv");
   const CliRun missing = run_x2car("calibrate ins --input " + folder.string());
   EXPECT_EQ(missing.exit_code, 2) << missing.output;

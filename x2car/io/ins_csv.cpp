@@ -2,11 +2,14 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <map>
 #include <stdexcept>
 
 #include "x2car/core/enum_names.hpp"
@@ -23,7 +26,7 @@ namespace {
 // The quantities a column can give; each needs at most one column.
 // clang-format off
 enum class Slot { kTime, kX, kY, kZ, kLat, kLon, kAlt, kVe, kVn, kVu, kRoll, kPitch, kYaw, kStatus,
-                  kCount };
+                  kQx, kQy, kQz, kQw, kCount };
 // clang-format on
 constexpr std::size_t kSlotCount = static_cast<std::size_t>(Slot::kCount);
 
@@ -32,24 +35,65 @@ struct Alias {
   Slot slot;
 };
 
-constexpr std::array<Alias, 36> kAliases{{
-    {"time", Slot::kTime},     {"time_s", Slot::kTime},  {"time_ns", Slot::kTime},
-    {"x", Slot::kX},           {"east", Slot::kX},       {"y", Slot::kY},
-    {"north", Slot::kY},       {"z", Slot::kZ},          {"up", Slot::kZ},
-    {"lat", Slot::kLat},       {"latitude", Slot::kLat}, {"lon", Slot::kLon},
-    {"longitude", Slot::kLon}, {"alt", Slot::kAlt},      {"altitude", Slot::kAlt},
-    {"vx", Slot::kVe},         {"ve", Slot::kVe},        {"v_east", Slot::kVe},
-    {"vy", Slot::kVn},         {"vn", Slot::kVn},        {"v_north", Slot::kVn},
-    {"vz", Slot::kVu},         {"vu", Slot::kVu},        {"v_up", Slot::kVu},
-    {"vel_e", Slot::kVe},      {"vel_n", Slot::kVn},     {"vel_u", Slot::kVu},
-    {"vel_east", Slot::kVe},   {"vel_north", Slot::kVn}, {"vel_up", Slot::kVu},
-    {"roll", Slot::kRoll},     {"pitch", Slot::kPitch},  {"yaw", Slot::kYaw},
-    {"heading", Slot::kYaw},   {"azimuth", Slot::kYaw},  {"status", Slot::kStatus},
+constexpr std::array<Alias, 50> kAliases{{
+    {"time", Slot::kTime},
+    {"time_s", Slot::kTime},
+    {"time_ns", Slot::kTime},
+    {"time_us", Slot::kTime},
+    {"time_ms", Slot::kTime},
+    {"qx", Slot::kQx},
+    {"qy", Slot::kQy},
+    {"qz", Slot::kQz},
+    {"qw", Slot::kQw},
+    {"quat_x", Slot::kQx},
+    {"quat_y", Slot::kQy},
+    {"quat_z", Slot::kQz},
+    {"quat_w", Slot::kQw},
+    {"orientation_x", Slot::kQx},
+    {"orientation_y", Slot::kQy},
+    {"orientation_z", Slot::kQz},
+    {"orientation_w", Slot::kQw},
+    {"x", Slot::kX},
+    {"east", Slot::kX},
+    {"y", Slot::kY},
+    {"north", Slot::kY},
+    {"z", Slot::kZ},
+    {"up", Slot::kZ},
+    {"lat", Slot::kLat},
+    {"latitude", Slot::kLat},
+    {"lon", Slot::kLon},
+    {"longitude", Slot::kLon},
+    {"alt", Slot::kAlt},
+    {"altitude", Slot::kAlt},
+    {"vx", Slot::kVe},
+    {"ve", Slot::kVe},
+    {"v_east", Slot::kVe},
+    {"vy", Slot::kVn},
+    {"vn", Slot::kVn},
+    {"v_north", Slot::kVn},
+    {"vz", Slot::kVu},
+    {"vu", Slot::kVu},
+    {"v_up", Slot::kVu},
+    {"vel_e", Slot::kVe},
+    {"vel_n", Slot::kVn},
+    {"vel_u", Slot::kVu},
+    {"vel_east", Slot::kVe},
+    {"vel_north", Slot::kVn},
+    {"vel_up", Slot::kVu},
+    {"roll", Slot::kRoll},
+    {"pitch", Slot::kPitch},
+    {"yaw", Slot::kYaw},
+    {"heading", Slot::kYaw},
+    {"azimuth", Slot::kYaw},
+    {"status", Slot::kStatus},
 }};
 
 constexpr std::array<Slot, 3> kEnuSlots{Slot::kX, Slot::kY, Slot::kZ};
 constexpr std::array<Slot, 3> kGeodeticSlots{Slot::kLat, Slot::kLon, Slot::kAlt};
 constexpr std::array<Slot, 3> kVelocitySlots{Slot::kVe, Slot::kVn, Slot::kVu};
+constexpr std::array<Slot, 3> kEulerSlots{Slot::kRoll, Slot::kPitch, Slot::kYaw};
+// world_from_ins as a quaternion in ENU (ROS's orientation), instead of roll, pitch and yaw.
+constexpr std::array<Slot, 4> kQuaternionSlots{Slot::kQx, Slot::kQy, Slot::kQz, Slot::kQw};
 
 std::size_t index_of(Slot slot) { return static_cast<std::size_t>(slot); }
 bool is_angle(Slot slot) {
@@ -119,7 +163,9 @@ struct Layout {
   std::vector<std::string> ignored;  // header names the reader does not use, "'name' (column)"
   std::array<std::optional<Column>, kSlotCount> columns;
   bool geodetic = false;
-  bool time_ns = false;
+  bool time_ns = false;  // an integer count since the Unix epoch: time_ns, time_us or time_ms
+  std::int64_t ns_per_count = 1;
+  bool quaternion = false;
   bool yaw_is_azimuth = false;
 
   const std::optional<Column>& operator[](Slot slot) const { return columns[index_of(slot)]; }
@@ -152,8 +198,11 @@ void check_required(const Layout& layout, const std::string& source) {
   if (layout.has_any(kVelocitySlots)) {
     add_missing(layout, kVelocitySlots, missing, " (velocity is optional, but needs all three)");
   }
-  const std::array<Slot, 3> attitude{Slot::kRoll, Slot::kPitch, Slot::kYaw};
-  add_missing(layout, attitude, missing);
+  if (layout.has_any(kQuaternionSlots) && !layout.has_any(kEulerSlots)) {
+    add_missing(layout, kQuaternionSlots, missing, " (an attitude quaternion needs all four)");
+  } else {
+    add_missing(layout, kEulerSlots, missing);
+  }
   if (missing.empty()) return;
   throw InputError(source, layout.header_line, {},
                    fmt::format("missing column(s): {} (names are case-insensitive; angles in "
@@ -169,8 +218,26 @@ Layout parse_header(const TextLine& header, const InsCsvOptions& options,
   layout.header_line = header.number;
   layout.field_count = names.size();
   std::optional<InputError> duplicate;  // reported after the missing columns
+  // --columns: a header name the user mapped reads as the quantity it was mapped to.
+  std::vector<std::string> mapped_names;
+  for (const auto& [quantity, header_name] : options.column_names) {
+    const bool present = std::ranges::any_of(names, [&](std::string_view name) {
+      return lower_case(trim(name)) == lower_case(header_name);
+    });
+    if (!present) {
+      throw InputError(source, header.number, header_name,
+                       fmt::format("the column mapping names '{}' for {}, but the header has no "
+                                   "such column",
+                                   header_name, quantity));
+    }
+  }
   for (std::size_t i = 0; i < names.size(); ++i) {
-    std::optional<std::pair<Slot, Column>> match = match_column(names[i], i, options);
+    std::string_view written = names[i];
+    for (const auto& [quantity, header_name] : options.column_names) {
+      if (lower_case(trim(names[i])) == lower_case(header_name)) written = quantity;
+    }
+    std::optional<std::pair<Slot, Column>> match = match_column(written, i, options);
+    if (match && written != names[i]) match->second.name = std::string(names[i]);
     if (!match) {  // unknown columns are ignored, and named in a notice
       layout.ignored.push_back(fmt::format("{} ({})", quote_field(names[i]), i + 1));
       continue;
@@ -199,10 +266,18 @@ Layout parse_header(const TextLine& header, const InsCsvOptions& options,
                      fmt::format("both an ENU position ('{}') and a geodetic one ('{}'); keep one",
                                  first(kEnuSlots), geodetic_name));
   }
-  layout.time_ns = layout[Slot::kTime]->alias == "time_ns";
-  layout.yaw_is_azimuth = options.yaw_convention
-                              ? *options.yaw_convention == YawConvention::kAzimuth
-                              : layout[Slot::kYaw]->alias != "yaw";
+  const std::string& time_alias = layout[Slot::kTime]->alias;
+  layout.time_ns = time_alias == "time_ns" || time_alias == "time_us" || time_alias == "time_ms";
+  layout.ns_per_count = time_alias == "time_ms" ? 1'000'000 : time_alias == "time_us" ? 1'000 : 1;
+  if (layout.has_any(kQuaternionSlots) && layout.has_any(kEulerSlots)) {
+    throw InputError(source, header.number, layout[Slot::kQw] ? layout[Slot::kQw]->name : "qw",
+                     "both roll/pitch/yaw and an attitude quaternion; keep one");
+  }
+  layout.quaternion = layout.has_any(kQuaternionSlots);
+  layout.yaw_is_azimuth =
+      !layout.quaternion &&
+      (options.yaw_convention ? *options.yaw_convention == YawConvention::kAzimuth
+                              : layout[Slot::kYaw]->alias != "yaw");
   return layout;
 }
 
@@ -249,7 +324,14 @@ ParsedRow parse_row(const TextLine& line, const Layout& layout, const std::strin
   ParsedRow row;
   InsRecord& r = row.record;
   if (layout.time_ns) {
-    row.time_ns = parse_integer(fields[layout[Slot::kTime]->index], where(Slot::kTime));
+    const std::int64_t count =
+        parse_integer(fields[layout[Slot::kTime]->index], where(Slot::kTime));
+    if (std::abs(count) > std::numeric_limits<std::int64_t>::max() / layout.ns_per_count) {
+      throw InputError(source, line.number, layout[Slot::kTime]->name,
+                       fmt::format("{} is beyond the range of a time stamp",
+                                   fields[layout[Slot::kTime]->index]));
+    }
+    row.time_ns = count * layout.ns_per_count;
   } else {
     r.time = value(Slot::kTime);
   }
@@ -271,8 +353,21 @@ ParsedRow parse_row(const TextLine& line, const Layout& layout, const std::strin
                       bounded(Slot::kVn, kInsMaxSpeed, "m/s"),
                       bounded(Slot::kVu, kInsMaxSpeed, "m/s")};
   }
-  const double roll = angle(Slot::kRoll), pitch = angle(Slot::kPitch), yaw = angle(Slot::kYaw);
-  r.attitude = {roll, pitch, layout.yaw_is_azimuth ? heading_enu_from_azimuth(yaw) : yaw};
+  if (layout.quaternion) {
+    const Eigen::Quaterniond q(value(Slot::kQw), value(Slot::kQx), value(Slot::kQy),
+                               value(Slot::kQz));
+    // A unit quaternion as written to 6 digits is within 1e-5 of norm 1; one far from it is not
+    // an attitude (a column of something else, or a corrupt number).
+    if (std::abs(q.norm() - 1.0) > 1e-2) {
+      throw InputError(
+          source, line.number, layout[Slot::kQw]->name,
+          fmt::format("the attitude quaternion has norm {}, not 1", format_number(q.norm())));
+    }
+    r.attitude = euler_from_rotation(q.normalized().toRotationMatrix());
+  } else {
+    const double roll = angle(Slot::kRoll), pitch = angle(Slot::kPitch), yaw = angle(Slot::kYaw);
+    r.attitude = {roll, pitch, layout.yaw_is_azimuth ? heading_enu_from_azimuth(yaw) : yaw};
+  }
   if (layout[Slot::kStatus]) {
     r.status = parse_whole_number(fields[layout[Slot::kStatus]->index], where(Slot::kStatus));
   }
@@ -340,6 +435,17 @@ void InsCsvOptions::Check() const {
              "yaw_convention", "must be a YawConvention");
   check.that(angle_unit == AngleUnit::kRadians || angle_unit == AngleUnit::kDegrees, "angle_unit",
              "must be an AngleUnit");
+  for (const auto& [quantity, header_name] : column_names) {
+    if (!match_column(quantity, 0, *this)) {
+      reject_argument(
+          "InsCsvOptions.column_names: '{}' is not a column x2car reads (e.g. time, "
+          "time_ns, east, lat, ve, roll_deg, heading, qw, status)",
+          quantity);
+    }
+    if (header_name.empty()) {
+      reject_argument("InsCsvOptions.column_names: '{}' maps to an empty name", quantity);
+    }
+  }
 }
 
 std::string format_ins_csv(std::span<const InsRecord> records) {

@@ -19,6 +19,7 @@
 
 #include <Eigen/Core>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <span>
 #include <string>
@@ -75,8 +76,13 @@ struct InsCsvOptions {
   // Unit of `roll`, `pitch` and the heading column when the name has no unit suffix. Default
   // radians; a `_deg` or `_rad` suffix always wins.
   AngleUnit angle_unit = AngleUnit::kRadians;
+  // A vendor's header names, read as x2car's: {"time_ns": "gps_ns", "east": "E", ...}, each key a
+  // column name the reader knows (with a `_deg`/`_rad` suffix where it takes one), each value a
+  // column of the header (case-insensitive). Empty: the header's names are used as they are.
+  std::map<std::string, std::string> column_names;
 
-  void Check() const;  // throws std::invalid_argument on an enumerator out of range
+  // Throws std::invalid_argument on an enumerator out of range or a key the reader does not know.
+  void Check() const;
 };
 
 // A forward jump in a log's time stamps far beyond its rhythm: the device stopped logging, or two

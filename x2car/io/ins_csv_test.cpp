@@ -5,9 +5,11 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "x2car/core/error.hpp"
@@ -120,6 +122,66 @@ TEST(InsCsvColumns, TimeNsGivesStartUnixTimeAndRelativeTimes) {
   EXPECT_FALSE(log.enu_origin.has_value());
   EXPECT_FALSE(parse_ins_csv_log("time,x,y,z,roll,pitch,yaw\n5,0,0,0,0,0,0\n", "g")
                    .start_unix_time.has_value());
+}
+
+// Vendors count microseconds or milliseconds since the Unix epoch (issue 17 item 5).
+TEST(InsCsvColumns, TimeUsAndTimeMsAreCountsSinceTheEpoch) {
+  for (const auto& [column, first, second] :
+       {std::tuple{"time_us", "1700000000000000", "1700000000250000"},
+        std::tuple{"time_ms", "1700000000000", "1700000000250"}}) {
+    const InsCsvLog log =
+        parse_ins_csv_log(fmt::format("{},x,y,z,roll,pitch,yaw\n{},0,0,0,0,0,0\n{},1,0,0,0,0,0\n",
+                                      column, first, second),
+                          "ins.csv");
+    ASSERT_EQ(log.records.size(), 2U) << column;
+    EXPECT_DOUBLE_EQ(log.records[0].time, 0.0) << column;
+    EXPECT_DOUBLE_EQ(log.records[1].time, 0.25) << column;
+    ASSERT_TRUE(log.start_unix_time) << column;
+    EXPECT_DOUBLE_EQ(*log.start_unix_time, 1700000000.0) << column;
+  }
+  expect_input_error(
+      [] { parse_ins_csv("time_ms,x,y,z,roll,pitch,yaw\n9e300,0,0,0,0,0,0\n", "ins.csv"); },
+      "ins.csv", 2, "time_ms");
+}
+
+// ROS's orientation: a quaternion of world_from_ins in ENU, instead of roll, pitch and yaw.
+TEST(InsCsvColumns, QuaternionAttitude) {
+  const EulerAngles truth{0.02, -0.03, 1.2};
+  const Eigen::Quaterniond q(rotation_from_euler(truth));
+  const std::vector<InsRecord> r = parse(
+      fmt::format("time,east,north,up,orientation_x,orientation_y,orientation_z,orientation_w\n"
+                  "0,0,0,0,{},{},{},{}\n",
+                  q.x(), q.y(), q.z(), q.w()));
+  ASSERT_EQ(r.size(), 1U);
+  EXPECT_NEAR(r[0].attitude.roll, truth.roll, 1e-12);
+  EXPECT_NEAR(r[0].attitude.pitch, truth.pitch, 1e-12);
+  EXPECT_NEAR(r[0].attitude.yaw, truth.yaw, 1e-12);
+  // Not a unit quaternion; half a quaternion; a quaternion and Euler angles.
+  expect_csv_error("time,x,y,z,qx,qy,qz,qw\n0,0,0,0,0,0,0,3\n", 2, "qw");
+  EXPECT_THAT(expect_csv_error("time,x,y,z,qx,qy,qw\n0,0,0,0,0,0,1\n", 1).what(),
+              HasSubstr("'qz' or 'quat_z' or 'orientation_z'"));
+  expect_csv_error("time,x,y,z,qx,qy,qz,qw,roll,pitch,yaw\n0,0,0,0,0,0,0,1,0,0,0\n", 1, "qw");
+}
+
+// A vendor's names mapped to x2car's (--columns time=...,east=...).
+TEST(InsCsvColumns, ColumnNamesMapAVendorsHeader) {
+  InsCsvOptions options;
+  options.column_names = {{"time", "GPS Time"},   {"east", "E"},     {"north", "N"},    {"up", "U"},
+                          {"heading_deg", "Hdg"}, {"roll_deg", "R"}, {"pitch_deg", "P"}};
+  const std::vector<InsRecord> r =
+      parse("GPS Time,E,N,U,R,P,Hdg\n10.5,1,2,3,0,0,90\n10.6,2,2,3,0,0,90\n", options);
+  ASSERT_EQ(r.size(), 2U);
+  EXPECT_DOUBLE_EQ(r[1].time, 10.6);
+  EXPECT_DOUBLE_EQ(r[1].position_enu.x(), 2.0);
+  EXPECT_NEAR(r[0].attitude.yaw, 0.0, 1e-12);  // heading 90 deg = east = ENU yaw 0
+  // A mapped column the header lacks, and a key the reader does not know.
+  options.column_names["status"] = "Mode";
+  expect_input_error(
+      [&] { parse_ins_csv("GPS Time,E,N,U,R,P,Hdg\n1,1,2,3,0,0,90\n", "ins.csv", options); },
+      "ins.csv", 1, "Mode");
+  InsCsvOptions unknown;
+  unknown.column_names = {{"speed", "V"}};
+  EXPECT_THROW(unknown.Check(), std::invalid_argument);
 }
 
 TEST(InsCsvColumns, StatusIsAnInteger) {
