@@ -25,6 +25,7 @@ struct CalibrateInsArguments {
   std::string yaw_convention;  // empty: as the CSV header says
   std::string angle_unit = io::to_string(io::InsCsvOptions{}.angle_unit);
   std::vector<std::string> columns;  // --columns time=GPS Time,east=E,...
+  std::string topic;                 // an MCAP file's Odometry topic
   TrackArguments track;
   bool spline_velocity = false;
   OutputArguments output;
@@ -46,6 +47,7 @@ io::InsReadOptions read_options(const CalibrateInsArguments& arguments) {
     options.csv.column_names[pair.substr(0, equals)] = pair.substr(equals + 1);
   }
   options.csv.Check();
+  if (!arguments.topic.empty()) options.topic = arguments.topic;
   return options;
 }
 
@@ -93,7 +95,8 @@ RunCommand setup_calibrate_ins_command(CLI::App& command) {
   command
       .add_option("-i,--input", arguments->input_path,
                   "GNSS/INS log: novatel_enu.csv, a generic CSV with a header, a KITTI OXTS "
-                  "folder, or a drive folder holding one (ins/novatel_enu.csv or x2car.yaml)")
+                  "folder, an MCAP file with a nav_msgs/msg/Odometry topic (ROS 2 CDR), or a "
+                  "drive folder holding one (ins/novatel_enu.csv or x2car.yaml)")
       ->type_name("PATH")
       ->required();
   command.add_option("--format", arguments->format, "Form of the input; auto detects it")
@@ -119,6 +122,10 @@ RunCommand setup_calibrate_ins_command(CLI::App& command) {
                   "e.g. time_ms=Timestamp,east=E,north=N,up=U,heading_deg=Hdg (docs/formats.md)")
       ->type_name("LIST")
       ->delimiter(',');
+  command
+      .add_option("--topic", arguments->topic,
+                  "An MCAP file's nav_msgs/msg/Odometry topic (default: its only one)")
+      ->type_name("TOPIC");
   add_track_options(command, arguments->track, "samples");
   command.add_flag("--spline-velocity", arguments->spline_velocity,
                    "Ignore the device's velocity; use the smoothed track's");

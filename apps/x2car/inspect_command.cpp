@@ -133,9 +133,10 @@ int run_inspect(const InspectArguments& arguments) {
                              stats.type, stats.encoding, stats.count, rate, topic_span_s,
                              stats.out_of_order, calibrator_for(stats.type));
   }
-  std::cout << "(late: messages logged before the one before them on their topic. Calibrating "
-               "from an MCAP file is not supported yet: the 'for' column says which calibrator's "
-               "data a topic holds.)\n";
+  std::cout << "(late: messages logged before the one before them on their topic. 'for': which "
+               "calibrator's data a topic holds; from MCAP, x2car calibrates the GNSS/INS from a "
+               "nav_msgs/msg/Odometry topic in ROS 2 CDR (calibrate ins --input FILE --topic T); "
+               "the other types are not read yet.)\n";
   return kExitOk;
 }
 

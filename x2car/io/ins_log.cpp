@@ -9,6 +9,8 @@
 
 #include "x2car/core/enum_names.hpp"
 #include "x2car/core/error.hpp"
+#include "x2car/io/mcap_ins.hpp"
+#include "x2car/io/mcap_reader.hpp"
 #include "x2car/io/novatel_csv.hpp"
 #include "x2car/io/oxts.hpp"
 #include "x2car/io/text_lines.hpp"
@@ -18,11 +20,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr std::array<EnumName<InsFormat>, 4> kInsFormatNames{{
+constexpr std::array<EnumName<InsFormat>, 5> kInsFormatNames{{
     {InsFormat::kAuto, "auto"},
     {InsFormat::kNovatel, "novatel"},
     {InsFormat::kCsv, "csv"},
     {InsFormat::kOxts, "oxts"},
+    {InsFormat::kMcap, "mcap"},
 }};
 
 // novatel when the first line that is neither blank nor a '#' comment starts with the field
@@ -79,6 +82,7 @@ InsFormat detect_ins_format(const fs::path& path) {
   check_exists(path);
   std::error_code error;
   if (fs::is_directory(path, error)) return InsFormat::kOxts;
+  if (looks_like_mcap(path)) return InsFormat::kMcap;
   // Reads only up to the first line with content (a header is short; the log may be large).
   std::ifstream stream(path, std::ios::binary);
   if (!stream) throw InputError(path.string(), "cannot open file for reading");
@@ -92,6 +96,10 @@ InsFormat detect_ins_format(const fs::path& path) {
 
 InsLog read_ins_log(const fs::path& path, const InsReadOptions& options) {
   check_exists(path);
+  if (options.format == InsFormat::kMcap ||
+      (options.format == InsFormat::kAuto && detect_ins_format(path) == InsFormat::kMcap)) {
+    return read_ins_mcap(path, {.topic = options.topic, .allow_truncated = false});
+  }
   if (options.format == InsFormat::kOxts ||
       (options.format == InsFormat::kAuto && detect_ins_format(path) == InsFormat::kOxts)) {
     OxtsLog oxts = read_oxts_folder(path);

@@ -18,9 +18,10 @@
 
 namespace x2car::io {
 
-enum class InsFormat { kAuto, kNovatel, kCsv, kOxts };
+enum class InsFormat { kAuto, kNovatel, kCsv, kOxts, kMcap };
 
-// "auto", "novatel", "csv", "oxts"; parsing throws std::invalid_argument listing the names.
+// "auto", "novatel", "csv", "oxts", "mcap"; parsing throws std::invalid_argument listing the
+// names.
 const char* to_string(InsFormat format);
 InsFormat ins_format_from_string(const std::string& text);
 std::vector<std::string> ins_format_names();
@@ -28,6 +29,8 @@ std::vector<std::string> ins_format_names();
 struct InsReadOptions {
   InsFormat format = InsFormat::kAuto;
   InsCsvOptions csv;  // how the generic CSV's columns are read
+  // An MCAP file's Odometry topic (mcap_ins.hpp); unset: its only one.
+  std::optional<std::string> topic;
 };
 
 struct InsLog {

@@ -1,0 +1,32 @@
+// A GNSS/INS log from an MCAP file (issue 17 item 2): a `nav_msgs/msg/Odometry` topic in ROS 2
+// CDR, as a localisation or INS driver publishes it: the pose of the device (child frame) in an
+// ENU world frame, and its velocity in its own axes (REP 103/105). Each message becomes one
+// record: time = header.stamp, position = pose.position, attitude = the orientation as
+// Rz(yaw) Ry(pitch) Rx(roll), velocity_enu = orientation * twist.linear.
+//
+// Stamps of 10^8 s or more are taken as Unix times: the records count from the first stamp
+// (computed in integer nanoseconds) and InsLog::start_unix_time keeps it; smaller stamps are kept
+// as they are (a simulation's clock). Messages are put in time order; two with one stamp are an
+// error.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "x2car/io/ins_log.hpp"
+
+namespace x2car::io {
+
+struct McapInsOptions {
+  // The topic; unset: the file's one Odometry topic (an error listing them when there are more).
+  std::optional<std::string> topic;
+  bool allow_truncated = false;
+};
+
+// InputError naming the file (and the topic or message) for a file without an Odometry topic, an
+// unknown --topic (listing those there are), a message that is not CDR or ends early, a
+// non-finite value, a quaternion far from unit length, or repeated stamps.
+InsLog read_ins_mcap(const std::filesystem::path& path, const McapInsOptions& options = {});
+
+}  // namespace x2car::io
