@@ -56,9 +56,9 @@ std::vector<double> read_times_file(const fs::path& path) {
 }
 
 // The files with the times of `times_path` (one per file, name order), read by `read_times`.
-std::vector<SweepFile> attach_times_file(
-    const std::vector<fs::path>& files, const fs::path& times_path,
-    std::vector<double> (*read_times)(const fs::path&) = &read_times_file) {
+std::vector<SweepFile> attach_times_file(const std::vector<fs::path>& files,
+                                         const fs::path& times_path,
+                                         std::vector<double> (*read_times)(const fs::path&)) {
   const std::vector<double> times = read_times(times_path);
   if (times.size() != files.size()) {
     throw InputError(times_path.string(),
@@ -82,44 +82,37 @@ void sort_and_check(std::vector<SweepFile>& sweeps) {
   }
 }
 
-SweepFolder list_kitti(const fs::path& folder) {
+// KITTI .bin scans in `scans` with their times, one per scan in name order, in `times_path`
+// (read by `read_times`); `missing` says where the times come from when the file is absent.
+SweepFolder list_kitti_scans(const fs::path& scans, const fs::path& times_path,
+                             std::vector<double> (*read_times)(const fs::path&),
+                             const char* missing) {
   SweepFolder result;
-  result.folder = folder / "velodyne";
+  result.folder = scans;
   result.format = SweepFileFormat::kKittiBin;
   const std::vector<fs::path> files =
       files_with_extension(result.folder, ".bin", result.ignored_files);
   if (files.empty()) throw InputError(result.folder.string(), "holds no .bin KITTI scans");
-  const fs::path times_path = folder / "times.txt";
-  if (!fs::is_regular_file(times_path)) {
-    throw InputError(times_path.string(),
-                     "is missing: KITTI scans take their times from times.txt beside velodyne/");
-  }
-  result.sweeps = attach_times_file(files, times_path);
+  if (!fs::is_regular_file(times_path)) throw InputError(times_path.string(), missing);
+  result.sweeps = attach_times_file(files, times_path, read_times);
   result.time_source = times_path.string();
   sort_and_check(result.sweeps);
   return result;
+}
+
+SweepFolder list_kitti(const fs::path& folder) {
+  return list_kitti_scans(folder / "velodyne", folder / "times.txt", &read_times_file,
+                          "is missing: KITTI scans take their times from times.txt beside "
+                          "velodyne/");
 }
 
 // KITTI raw: `velodyne_points/data/*.bin` with `velodyne_points/timestamps.txt`, one UTC date-time
 // per scan in name order: the moment the scanner faced forward, half way through its sweep (KITTI's
 // timestamps_start.txt and timestamps_end.txt beside it are the sweep's ends).
 SweepFolder list_kitti_raw(const fs::path& points) {
-  SweepFolder result;
-  result.folder = points / "data";
-  result.format = SweepFileFormat::kKittiBin;
-  const std::vector<fs::path> files =
-      files_with_extension(result.folder, ".bin", result.ignored_files);
-  if (files.empty()) throw InputError(result.folder.string(), "holds no .bin KITTI scans");
-  const fs::path times_path = points / "timestamps.txt";
-  if (!fs::is_regular_file(times_path)) {
-    throw InputError(times_path.string(),
-                     "is missing: KITTI raw scans take their times from velodyne_points/"
-                     "timestamps.txt");
-  }
-  result.sweeps = attach_times_file(files, times_path, &io::read_timestamps_file);
-  result.time_source = times_path.string();
-  sort_and_check(result.sweeps);
-  return result;
+  return list_kitti_scans(points / "data", points / "timestamps.txt", &io::read_timestamps_file,
+                          "is missing: KITTI raw scans take their times from velodyne_points/"
+                          "timestamps.txt");
 }
 
 SweepFolder list_pcd(const fs::path& folder, std::vector<fs::path> files, std::size_t others) {
@@ -129,7 +122,7 @@ SweepFolder list_pcd(const fs::path& folder, std::vector<fs::path> files, std::s
   const fs::path times_path = folder / "times.txt";
   if (fs::is_regular_file(times_path)) {
     --result.ignored_files;  // times.txt is part of the log, not a stray file
-    result.sweeps = attach_times_file(files, times_path);
+    result.sweeps = attach_times_file(files, times_path, &read_times_file);
     result.time_source = times_path.string();
   } else {
     bool from_points = false;
