@@ -95,7 +95,8 @@ RunCommand setup_calibrate_ins_command(CLI::App& command) {
   command
       .add_option("-i,--input", arguments->input_path,
                   "GNSS/INS log: novatel_enu.csv, a generic CSV with a header, a KITTI OXTS "
-                  "folder, an MCAP file with a nav_msgs/msg/Odometry topic (ROS 2 CDR), or a "
+                  "folder, an MCAP file with a nav_msgs/msg/Odometry or PoseStamped topic (ROS 2 "
+                  "CDR), or a "
                   "drive folder holding one (ins/novatel_enu.csv or x2car.yaml)")
       ->type_name("PATH")
       ->required();
@@ -124,7 +125,7 @@ RunCommand setup_calibrate_ins_command(CLI::App& command) {
       ->delimiter(',');
   command
       .add_option("--topic", arguments->topic,
-                  "An MCAP file's nav_msgs/msg/Odometry topic (default: its only one)")
+                  "An MCAP file's Odometry or PoseStamped topic (default: its only one)")
       ->type_name("TOPIC");
   add_track_options(command, arguments->track, "samples");
   command.add_flag("--spline-velocity", arguments->spline_velocity,

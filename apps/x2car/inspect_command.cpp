@@ -133,10 +133,12 @@ int run_inspect(const InspectArguments& arguments) {
                              stats.type, stats.encoding, stats.count, rate, topic_span_s,
                              stats.out_of_order, calibrator_for(stats.type));
   }
-  std::cout << "(late: messages logged before the one before them on their topic. 'for': which "
-               "calibrator's data a topic holds; from MCAP, x2car calibrates the GNSS/INS from a "
-               "nav_msgs/msg/Odometry topic in ROS 2 CDR (calibrate ins --input FILE --topic T); "
-               "the other types are not read yet.)\n";
+  std::cout
+      << "(late: messages logged before the one before them on their topic. 'for': which "
+         "calibrator's data a topic holds; from MCAP, x2car calibrates the GNSS/INS from a "
+         "nav_msgs/msg/Odometry or geometry_msgs/msg/PoseStamped topic in ROS 2 CDR (calibrate "
+         "ins --input FILE --topic T); "
+         "the other types are not read yet.)\n";
   return kExitOk;
 }
 

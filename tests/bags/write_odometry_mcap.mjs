@@ -3,8 +3,9 @@
 // implementations: @foxglove/rosmsg2-serialization (with ROS 2 Jazzy's definitions from
 // @foxglove/rosmsg-msgs-common) and @mcap/core, zstd-compressed chunks. The pose is the device's
 // in ENU, the twist its velocity in its own axes (REP 103/105). A second topic (/odom_copy) is
-// added with --two-topics, so that a reader must be told which one.
-//   node write_odometry_mcap.mjs INS_CSV OUT.mcap [--two-topics]
+// added with --two-topics, so that a reader must be told which one; --pose-stamped writes
+// geometry_msgs/msg/PoseStamped (the pose alone) on /pose instead.
+//   node write_odometry_mcap.mjs INS_CSV OUT.mcap [--two-topics | --pose-stamped]
 import { McapWriter } from '@mcap/core';
 import { MessageWriter } from '@foxglove/rosmsg2-serialization';
 import { ros2jazzy } from '@foxglove/rosmsg-msgs-common';
@@ -13,7 +14,7 @@ import fs from 'node:fs';
 
 const [csvPath, outPath, flag] = process.argv.slice(2);
 if (!csvPath || !outPath) {
-  console.error('usage: node write_odometry_mcap.mjs INS_CSV OUT.mcap [--two-topics]');
+  console.error('usage: node write_odometry_mcap.mjs INS_CSV OUT.mcap [--two-topics | --pose-stamped]');
   process.exit(2);
 }
 await zstd.isLoaded;
@@ -31,7 +32,9 @@ function definitionsOf(root) {
   visit(root);
   return [...seen.values()];
 }
-const writer = new MessageWriter(definitionsOf('nav_msgs/Odometry'));
+const poseStamped = flag === '--pose-stamped';
+const writer = new MessageWriter(definitionsOf(poseStamped ? 'geometry_msgs/PoseStamped'
+                                                           : 'nav_msgs/Odometry'));
 
 // world_from_device = Rz(yaw) Ry(pitch) Rx(roll) as a quaternion, and its matrix.
 function quaternion(roll, pitch, yaw) {
@@ -70,10 +73,10 @@ const mcap = new McapWriter({
   compressChunk: (data) => ({ compression: 'zstd', compressedData: zstd.compress(data, 3) }),
 });
 await mcap.start({ profile: 'ros2', library: 'x2car fixtures (@mcap/core, rosmsg2-serialization)' });
+const type = poseStamped ? 'geometry_msgs/msg/PoseStamped' : 'nav_msgs/msg/Odometry';
 const schemaId = await mcap.registerSchema({
-  name: 'nav_msgs/msg/Odometry', encoding: 'ros2msg',
-  data: new TextEncoder().encode('# nav_msgs/msg/Odometry (ROS 2 Jazzy)') });
-const topics = flag === '--two-topics' ? ['/odom', '/odom_copy'] : ['/odom'];
+  name: type, encoding: 'ros2msg', data: new TextEncoder().encode('# ' + type + ' (ROS 2 Jazzy)') });
+const topics = poseStamped ? ['/pose'] : flag === '--two-topics' ? ['/odom', '/odom_copy'] : ['/odom'];
 const channels = [];
 for (const topic of topics) {
   channels.push(await mcap.registerChannel({ topic, schemaId, messageEncoding: 'cdr',
@@ -92,11 +95,12 @@ for (let i = 1; i < lines.length; ++i) {
   const v = [f[at.vx], f[at.vy], f[at.vz]];
   // The velocity in the device's axes: R^T v.
   const body = [0, 1, 2].map((k) => r[0][k] * v[0] + r[1][k] * v[1] + r[2][k] * v[2]);
-  const message = {
+  const pose = { position: { x: f[at.x], y: f[at.y], z: f[at.z] },
+                 orientation: quaternion(roll, pitch, yaw) };
+  const message = poseStamped ? { header: { stamp: { sec, nanosec }, frame_id: 'map' }, pose } : {
     header: { stamp: { sec, nanosec }, frame_id: 'map' },
     child_frame_id: 'gnss',
-    pose: { pose: { position: { x: f[at.x], y: f[at.y], z: f[at.z] },
-                    orientation: quaternion(roll, pitch, yaw) }, covariance },
+    pose: { pose, covariance },
     twist: { twist: { linear: { x: body[0], y: body[1], z: body[2] }, angular: { x: 0, y: 0, z: 0 } },
              covariance },
   };

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <utility>
 #include <vector>
 
 #include "x2car/core/error.hpp"
@@ -20,6 +21,7 @@ namespace x2car::io {
 namespace {
 
 constexpr const char* kOdometryType = "nav_msgs/msg/Odometry";
+constexpr const char* kPoseStampedType = "geometry_msgs/msg/PoseStamped";
 constexpr std::int64_t kUnixStampNs = 100'000'000LL * 1'000'000'000LL;  // 10^8 s
 
 struct StampedRecord {
@@ -32,48 +34,76 @@ double finite(double value, const std::string& source, const char* field) {
   return value;
 }
 
-// nav_msgs/msg/Odometry: header (stamp sec, nanosec; frame_id), child_frame_id,
-// pose (position xyz, orientation xyzw, covariance[36]), twist (linear xyz, angular xyz,
-// covariance[36]).
-StampedRecord decode_odometry(std::string_view bytes, const std::string& source) {
-  CdrReader cdr(bytes, source);
-  StampedRecord out;
+// std_msgs/Header: the stamp [ns]; the frame id is read past.
+std::int64_t read_stamp(CdrReader& cdr, const std::string& source) {
   const std::int32_t sec = cdr.int32("header.stamp.sec");
   const std::uint32_t nanosec = cdr.uint32("header.stamp.nanosec");
   if (nanosec >= 1'000'000'000U) {
     throw InputError(source, 0, "header.stamp.nanosec",
                      fmt::format("{} is not below 10^9", nanosec));
   }
-  out.stamp_ns = static_cast<std::int64_t>(sec) * 1'000'000'000LL + nanosec;
   cdr.string("header.frame_id");
-  cdr.string("child_frame_id");
+  return static_cast<std::int64_t>(sec) * 1'000'000'000LL + nanosec;
+}
+
+// geometry_msgs/Pose (`prefix` names it in messages, e.g. "pose.pose"): the position, and the
+// orientation as world_from_device.
+std::pair<Eigen::Vector3d, Eigen::Matrix3d> read_pose(CdrReader& cdr, const std::string& prefix,
+                                                      const std::string& source) {
+  const auto value = [&](const char* name) {
+    const std::string field = prefix + name;
+    return finite(cdr.float64(field.c_str()), source, field.c_str());
+  };
+  // One statement each: the fields are read in order (a constructor's arguments are not).
   Eigen::Vector3d position;
-  position.x() = finite(cdr.float64("pose.pose.position.x"), source, "pose.pose.position.x");
-  position.y() = finite(cdr.float64("pose.pose.position.y"), source, "pose.pose.position.y");
-  position.z() = finite(cdr.float64("pose.pose.position.z"), source, "pose.pose.position.z");
-  const double qx =
-      finite(cdr.float64("pose.pose.orientation.x"), source, "pose.pose.orientation.x");
-  const double qy =
-      finite(cdr.float64("pose.pose.orientation.y"), source, "pose.pose.orientation.y");
-  const double qz =
-      finite(cdr.float64("pose.pose.orientation.z"), source, "pose.pose.orientation.z");
-  const double qw =
-      finite(cdr.float64("pose.pose.orientation.w"), source, "pose.pose.orientation.w");
+  position.x() = value(".position.x");
+  position.y() = value(".position.y");
+  position.z() = value(".position.z");
+  const double qx = value(".orientation.x");
+  const double qy = value(".orientation.y");
+  const double qz = value(".orientation.z");
+  const double qw = value(".orientation.w");
+  const Eigen::Quaterniond q(qw, qx, qy, qz);
+  if (std::abs(q.norm() - 1.0) > 1e-2) {
+    throw InputError(source, 0, prefix + ".orientation",
+                     fmt::format("the quaternion has norm {}, not 1", format_number(q.norm())));
+  }
+  return {position, q.normalized().toRotationMatrix()};
+}
+
+// nav_msgs/msg/Odometry: header, child_frame_id, pose (Pose, covariance[36]), twist (linear xyz,
+// angular xyz, covariance[36]); the twist in the device's axes.
+StampedRecord decode_odometry(std::string_view bytes, const std::string& source) {
+  CdrReader cdr(bytes, source);
+  StampedRecord out;
+  out.stamp_ns = read_stamp(cdr, source);
+  cdr.string("child_frame_id");
+  const auto [position, world_from_device] = read_pose(cdr, "pose.pose", source);
   cdr.skip_float64s(36, "pose.covariance");
   Eigen::Vector3d linear;
   linear.x() = finite(cdr.float64("twist.twist.linear.x"), source, "twist.twist.linear.x");
   linear.y() = finite(cdr.float64("twist.twist.linear.y"), source, "twist.twist.linear.y");
   linear.z() = finite(cdr.float64("twist.twist.linear.z"), source, "twist.twist.linear.z");
-  const Eigen::Quaterniond q(qw, qx, qy, qz);
-  if (std::abs(q.norm() - 1.0) > 1e-2) {
-    throw InputError(source, 0, "pose.pose.orientation",
-                     fmt::format("the quaternion has norm {}, not 1", format_number(q.norm())));
-  }
-  const Eigen::Matrix3d world_from_device = q.normalized().toRotationMatrix();
   out.record.position_enu = position;
   out.record.attitude = euler_from_rotation(world_from_device);
   out.record.velocity_enu = world_from_device * linear;
   return out;
+}
+
+// geometry_msgs/msg/PoseStamped: header, pose. No velocity: the calibrator differentiates the
+// smoothed track (as for a CSV without velocity columns).
+StampedRecord decode_pose_stamped(std::string_view bytes, const std::string& source) {
+  CdrReader cdr(bytes, source);
+  StampedRecord out;
+  out.stamp_ns = read_stamp(cdr, source);
+  const auto [position, world_from_device] = read_pose(cdr, "pose", source);
+  out.record.position_enu = position;
+  out.record.attitude = euler_from_rotation(world_from_device);
+  return out;
+}
+
+bool is_pose_type(const std::string& type) {
+  return type == kOdometryType || type == kPoseStampedType;
 }
 
 struct Channel {
@@ -104,41 +134,46 @@ InsLog read_ins_mcap(const std::filesystem::path& path, const McapInsOptions& op
     if (found == channels.end()) return;  // inspect names such files; a log reader skips them
     Channel& channel = found->second;
     ++channel.count;
-    if (channel.type != kOdometryType) return;
+    if (!is_pose_type(channel.type)) return;
     if (options.topic && *options.topic != channel.topic) return;
     if (channel.encoding != "cdr") {
       throw InputError(file, 0, channel.topic,
-                       fmt::format("the Odometry messages are encoded as '{}'; x2car reads ROS 2 "
-                                   "CDR ('cdr') here",
-                                   channel.encoding));
+                       fmt::format("the {} messages are encoded as '{}'; x2car reads ROS 2 CDR "
+                                   "('cdr') here",
+                                   channel.type, channel.encoding));
     }
-    channel.records.push_back(decode_odometry(
-        message.data, fmt::format("{} ({} message {})", file, channel.topic, channel.count)));
+    const std::string source =
+        fmt::format("{} ({} message {})", file, channel.topic, channel.count);
+    channel.records.push_back(channel.type == kOdometryType
+                                  ? decode_odometry(message.data, source)
+                                  : decode_pose_stamped(message.data, source));
   };
   read_mcap(path, handlers, {.allow_truncated = options.allow_truncated});
 
   std::vector<std::string> odometry_topics;
   for (const auto& [id, channel] : channels) {
-    if (channel.type == kOdometryType) odometry_topics.push_back(channel.topic);
+    if (is_pose_type(channel.type)) odometry_topics.push_back(channel.topic);
   }
   const Channel* chosen = nullptr;
   for (const auto& [id, channel] : channels) {
-    if (options.topic ? channel.topic == *options.topic : channel.type == kOdometryType) {
+    if (options.topic ? channel.topic == *options.topic : is_pose_type(channel.type)) {
       chosen = &channel;
       if (options.topic) break;
     }
   }
-  if (options.topic && (chosen == nullptr || chosen->type != kOdometryType)) {
-    throw InputError(file, 0, *options.topic,
-                     chosen == nullptr
-                         ? fmt::format("no such topic; the Odometry topics: {}",
-                                       odometry_topics.empty() ? "none" : join(odometry_topics))
-                         : fmt::format("is {}, not {}", chosen->type, kOdometryType));
+  if (options.topic && (chosen == nullptr || !is_pose_type(chosen->type))) {
+    throw InputError(
+        file, 0, *options.topic,
+        chosen == nullptr
+            ? fmt::format("no such topic; the pose topics: {}",
+                          odometry_topics.empty() ? "none" : join(odometry_topics))
+            : fmt::format("is {}, not {} or {}", chosen->type, kOdometryType, kPoseStampedType));
   }
   if (!options.topic && odometry_topics.size() != 1) {
     throw InputError(file, odometry_topics.empty()
-                               ? fmt::format("holds no {} topic for a GNSS/INS log", kOdometryType)
-                               : fmt::format("holds {} Odometry topics ({}): pick one with --topic",
+                               ? fmt::format("holds no {} or {} topic for a GNSS/INS log",
+                                             kOdometryType, kPoseStampedType)
+                               : fmt::format("holds {} pose topics ({}): pick one with --topic",
                                              odometry_topics.size(), join(odometry_topics)));
   }
   std::vector<StampedRecord> stamped = chosen->records;

@@ -1,8 +1,10 @@
-// A GNSS/INS log from an MCAP file (issue 17 item 2): a `nav_msgs/msg/Odometry` topic in ROS 2
-// CDR, as a localisation or INS driver publishes it: the pose of the device (child frame) in an
-// ENU world frame, and its velocity in its own axes (REP 103/105). Each message becomes one
-// record: time = header.stamp, position = pose.position, attitude = the orientation as
-// Rz(yaw) Ry(pitch) Rx(roll), velocity_enu = orientation * twist.linear.
+// A GNSS/INS log from an MCAP file (issue 17 item 2): a `nav_msgs/msg/Odometry` or
+// `geometry_msgs/msg/PoseStamped` topic in ROS 2 CDR, as a localisation or INS driver publishes
+// it: the pose of the device (child frame) in an ENU world frame, and (Odometry) its velocity in
+// its own axes (REP 103/105). Each message becomes one record: time = header.stamp, position =
+// pose.position, attitude = the orientation as Rz(yaw) Ry(pitch) Rx(roll), velocity_enu =
+// orientation * twist.linear (zero for PoseStamped: the calibrator then differentiates the
+// track, as for a CSV without velocity).
 //
 // Stamps of 10^8 s or more are taken as Unix times: the records count from the first stamp
 // (computed in integer nanoseconds) and InsLog::start_unix_time keeps it; smaller stamps are kept
@@ -19,12 +21,13 @@
 namespace x2car::io {
 
 struct McapInsOptions {
-  // The topic; unset: the file's one Odometry topic (an error listing them when there are more).
+  // The topic; unset: the file's one Odometry or PoseStamped topic (an error listing them when
+  // there are more).
   std::optional<std::string> topic;
   bool allow_truncated = false;
 };
 
-// InputError naming the file (and the topic or message) for a file without an Odometry topic, an
+// InputError naming the file (and the topic or message) for a file without a pose topic, an
 // unknown --topic (listing those there are), a message that is not CDR or ends early, a
 // non-finite value, a quaternion far from unit length, or repeated stamps.
 InsLog read_ins_mcap(const std::filesystem::path& path, const McapInsOptions& options = {});
