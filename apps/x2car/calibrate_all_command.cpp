@@ -256,7 +256,7 @@ int run_calibrate_all(const CalibrateAllArguments& arguments) {
   write_outputs(runs, arguments.output);
   if (!arguments.output.report_path.empty()) {
     report::ReportInput input{
-        drive_title(drive), "x2car calibrate all --input " + arguments.input_path, {}};
+        path_title(drive.root), "x2car calibrate all --input " + arguments.input_path, {}};
     for (const SensorRun& run : runs) {
       input.sensors.push_back(drive_report_sensor(run.sensor, run.result, truth));
     }

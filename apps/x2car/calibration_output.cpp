@@ -103,9 +103,8 @@ std::string format_result_summary(const CalibrationResult& result) {
 }
 
 ReportContext report_context(const std::string& kind, const std::string& input_path) {
-  std::string title = std::filesystem::path(input_path).lexically_normal().filename().string();
-  if (title.empty()) title = input_path;
-  return {title, fmt::format("x2car calibrate {} --input {}", kind, input_path), {}};
+  return {
+      path_title(input_path), fmt::format("x2car calibrate {} --input {}", kind, input_path), {}};
 }
 
 int finish_calibration(const CalibrationResult& result, const OutputArguments& arguments,

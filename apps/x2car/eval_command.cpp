@@ -55,11 +55,10 @@ struct EvalArguments {
   std::string report_path;
 };
 
-// A sensor's whole-log result and its segments.
+// A sensor and its evaluation: the whole log's result and its segments'.
 struct SensorEval {
   io::DriveSensor sensor;
-  CalibrationResult whole;
-  std::vector<eval::SegmentResult> segments;
+  eval::SensorEvaluation evaluation;
 };
 
 // A bar over a sensor's segments on stderr (only when it is a terminal), done when the last ends.
@@ -92,10 +91,10 @@ SensorEval eval_ins(const io::DriveSensor& sensor, const std::vector<io::InsReco
                     const eval::SegmentOptions& options, bool whole_series) {
   ins::InsCalibrationOptions calibration;
   calibration.keep_series = whole_series;  // the report's evidence
-  SensorEval result{sensor, ins::calibrate_ins(records, calibration), {}};
+  SensorEval result{sensor, {ins::calibrate_ins(records, calibration), {}}};
   calibration.keep_series = false;
   if (records.empty()) return result;
-  result.segments = eval::calibrate_segments(
+  result.evaluation.segments = eval::calibrate_segments(
       eval::cut_into_segments(records.front().time, records.back().time, options),
       [&](const eval::TimeSpan& span) {
         return ins::calibrate_ins(within(records, span), calibration);
@@ -119,9 +118,9 @@ SensorEval eval_radar(const io::DriveSensor& sensor, const io::InsLog& ins_log,
   if (sensor.nominal_yaw_deg) {
     calibration.velocity.nominal_yaw = rad_from_deg(*sensor.nominal_yaw_deg);
   }
-  SensorEval result{sensor, radar::calibrate_radar(detections, ins_log.records, calibration), {}};
+  SensorEval result{sensor, {radar::calibrate_radar(detections, ins_log.records, calibration), {}}};
   if (detections.empty()) return result;
-  result.segments = eval::calibrate_segments(
+  result.evaluation.segments = eval::calibrate_segments(
       eval::cut_into_segments(detections.front().time, detections.back().time, options),
       [&](const eval::TimeSpan& span) {
         return radar::calibrate_radar(within(detections, span), ins_log.records, calibration);
@@ -136,7 +135,7 @@ SensorEval eval_lidar(const io::DriveSensor& sensor, std::span<const io::InsReco
   const lidar::SweepSource source = lidar::sweep_source_from(folder);
   lidar::LidarCalibrationOptions calibration;
   calibration.keep_series = whole_series;
-  SensorEval result{sensor, lidar::calibrate_lidar(source, calibration), {}};
+  SensorEval result{sensor, {lidar::calibrate_lidar(source, calibration), {}}};
   calibration.keep_series = false;
   if (source.times.empty()) return result;
   // The sweeps of each segment, read through the folder's own reader.
@@ -150,7 +149,7 @@ SensorEval eval_lidar(const io::DriveSensor& sensor, std::span<const io::InsReco
     return part;
   };
   // The LiDAR's pipeline is parallel inside: its segments run one after the other.
-  result.segments = eval::calibrate_segments(
+  result.evaluation.segments = eval::calibrate_segments(
       eval::cut_into_segments(source.times.front(), source.times.back(), options),
       [&](const eval::TimeSpan& span) {
         return lidar::calibrate_lidar(segment_source(span), calibration);
@@ -177,7 +176,7 @@ SensorEval eval_camera(const io::DriveSensor& sensor, const std::optional<fs::pa
   if (ins_path) source.motion = camera_motion_from_log(ins_path->string(), source);
   camera::CameraCalibrationOptions calibration;
   calibration.keep_series = whole_series;
-  SensorEval result{sensor, camera::calibrate_camera(source, intrinsics, calibration), {}};
+  SensorEval result{sensor, {camera::calibrate_camera(source, intrinsics, calibration), {}}};
   calibration.keep_series = false;
   if (source.times.empty()) return result;
   // The frames of each segment, decoded through the folder's own reader.
@@ -204,7 +203,7 @@ SensorEval eval_camera(const io::DriveSensor& sensor, const std::optional<fs::pa
     }
   }
   // The camera's pipeline is parallel inside: its segments run one after the other.
-  result.segments = eval::calibrate_segments(
+  result.evaluation.segments = eval::calibrate_segments(
       eval::cut_into_segments(source.times.front(), source.times.back(), options),
       [&](const eval::TimeSpan& span) {
         return camera::calibrate_camera(segment_source(span), intrinsics, calibration);
@@ -231,17 +230,17 @@ std::string format_sensor_table(const SensorEval& run, const eval::SegmentSummar
       "== {}: {} segments, {} gave an estimate ({:.0f} %), {:.2f} s per segment; whole log: {}\n",
       run.sensor.name, summary.segments, summary.with_estimate,
       summary.segments ? 100.0 * summary.with_estimate / summary.segments : 0.0,
-      summary.mean_seconds, to_string(run.whole.status));
+      summary.mean_seconds, to_string(run.evaluation.whole_log.status));
   text += fmt::format("{:<6} {:>10} {:>10} {:>12} {:>12} {:>14} {:>14}\n", "[deg]", "whole log",
                       "error", "segments", "std (all)", "std (straight)", "max |seg err|");
   const auto row = [&](const char* name, std::optional<double> CalibrationResult::*estimate,
                        const eval::AngleSpread& spread, double EulerAngles::*angle) {
-    const std::optional<double>& whole = run.whole.*estimate;
+    const std::optional<double>& whole = run.evaluation.whole_log.*estimate;
     std::optional<double> error;
     std::optional<double> worst;
     if (truth) {
       if (whole) error = wrap_angle(*whole - (*truth).*angle);
-      for (const eval::SegmentResult& segment : run.segments) {
+      for (const eval::SegmentResult& segment : run.evaluation.segments) {
         const std::optional<double>& value = segment.result.*estimate;
         if (!segment.result.ok() || !value) continue;
         const double miss = std::abs(wrap_angle(*value - (*truth).*angle));
@@ -260,7 +259,7 @@ std::string format_sensor_table(const SensorEval& run, const eval::SegmentSummar
   row("pitch", &CalibrationResult::pitch, summary.pitch, &EulerAngles::pitch);
   row("yaw", &CalibrationResult::yaw, summary.yaw, &EulerAngles::yaw);
   // The LiDAR's height above the road [m], as the paper's Table III has it.
-  if (run.whole.z || summary.z.count > 0) {
+  if (run.evaluation.whole_log.z || summary.z.count > 0) {
     const auto metres = [](const std::optional<double>& value, const char* format = "{:.4f}") {
       return value ? fmt::format(fmt::runtime(format), *value) : std::string("—");
     };
@@ -268,16 +267,16 @@ std::string format_sensor_table(const SensorEval& run, const eval::SegmentSummar
     std::optional<double> worst;
     if (mounting) {
       const double true_z = mounting->translation.z();
-      if (run.whole.z) error = *run.whole.z - true_z;
-      for (const eval::SegmentResult& segment : run.segments) {
+      if (run.evaluation.whole_log.z) error = *run.evaluation.whole_log.z - true_z;
+      for (const eval::SegmentResult& segment : run.evaluation.segments) {
         if (!segment.result.ok() || !segment.result.z) continue;
         worst = std::max(worst.value_or(0.0), std::abs(*segment.result.z - true_z));
       }
     }
     text += fmt::format(
-        "{:<6} {:>10} {:>10} {:>12} {:>12} {:>14} {:>14}\n", "z [m]", metres(run.whole.z),
-        metres(error, "{:+.4f}"), fmt::format("{} of {}", summary.z.count, summary.segments),
-        metres(summary.z.std_all),
+        "{:<6} {:>10} {:>10} {:>12} {:>12} {:>14} {:>14}\n", "z [m]",
+        metres(run.evaluation.whole_log.z), metres(error, "{:+.4f}"),
+        fmt::format("{} of {}", summary.z.count, summary.segments), metres(summary.z.std_all),
         fmt::format("{} ({})", metres(summary.z.std_straight), summary.z.straight_count),
         metres(worst));
   }
@@ -342,11 +341,11 @@ int run_eval(const EvalArguments& arguments) {
   io::Json all = io::Json::object();
   bool every_whole_ok = true;
   for (const SensorEval& run : runs) {
-    const eval::SegmentSummary summary = eval::summarise_segments(run.segments);
+    const eval::SegmentSummary summary = eval::summarise_segments(run.evaluation.segments);
     std::cout << format_sensor_table(run, summary, true_mounting(truth, run.sensor.name)) << "\n";
-    all[run.sensor.name] = eval::evaluation_to_json(
-        {run.whole, run.segments}, {.include_series = false, .include_timing = true});
-    every_whole_ok = every_whole_ok && run.whole.ok();
+    all[run.sensor.name] =
+        eval::evaluation_to_json(run.evaluation, {.include_series = false, .include_timing = true});
+    every_whole_ok = every_whole_ok && run.evaluation.whole_log.ok();
   }
   if (truth) std::cout << "(error: the whole log's estimate minus ground_truth.yaml)\n";
   if (!arguments.json_path.empty()) {
@@ -354,10 +353,11 @@ int run_eval(const EvalArguments& arguments) {
     spdlog::info("wrote {}", arguments.json_path);
   }
   if (with_report) {
-    report::ReportInput input{drive_title(drive), "x2car eval --input " + arguments.input_path, {}};
+    report::ReportInput input{
+        path_title(drive.root), "x2car eval --input " + arguments.input_path, {}};
     for (const SensorEval& run : runs) {
-      report::ReportSensor entry = drive_report_sensor(run.sensor, run.whole, truth);
-      entry.evaluation = eval::SensorEvaluation{run.whole, run.segments};
+      report::ReportSensor entry = drive_report_sensor(run.sensor, run.evaluation.whole_log, truth);
+      entry.evaluation = run.evaluation;
       input.sensors.push_back(std::move(entry));
     }
     write_report(arguments.report_path, input);

@@ -112,8 +112,7 @@ int run_report(const ReportArguments& arguments) {
   const std::string source = !arguments.input_path.empty()    ? arguments.input_path
                              : !arguments.result_path.empty() ? arguments.result_path
                                                               : arguments.eval_path;
-  input.title = fs::path(source).lexically_normal().filename().string();
-  if (input.title.empty()) input.title = fs::path(source).lexically_normal().parent_path().string();
+  input.title = path_title(source);
   input.command = "x2car report";
   for (const auto& [flag, path] : inputs) {
     if (!path.empty()) input.command += fmt::format(" {} {}", flag, path);

@@ -32,10 +32,11 @@ report::ReportSensor drive_report_sensor(const io::DriveSensor& sensor, Calibrat
   return entry;
 }
 
-std::string drive_title(const io::DriveFolder& drive) {
-  const std::filesystem::path root = drive.root.lexically_normal();
-  const std::string name = root.filename().string();
-  return name.empty() ? root.parent_path().filename().string() : name;
+std::string path_title(const std::filesystem::path& path) {
+  std::filesystem::path normal = path.lexically_normal();
+  if (normal.filename().empty()) normal = normal.parent_path();  // a trailing slash
+  const std::string name = normal.filename().string();
+  return name.empty() ? path.string() : name;
 }
 
 void write_report(const std::string& path, const report::ReportInput& input) {

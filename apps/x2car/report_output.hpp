@@ -2,6 +2,7 @@
 // a camera's sample frames read from its input as its command reads them, and the report file.
 #pragma once
 
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -22,8 +23,8 @@ std::vector<camera::FrameView> camera_frame_views(const io::DriveSensor& sensor)
 report::ReportSensor drive_report_sensor(const io::DriveSensor& sensor, CalibrationResult result,
                                          const std::optional<io::GroundTruth>& truth);
 
-// A drive folder's name for the report's title.
-std::string drive_title(const io::DriveFolder& drive);
+// A path's last name for a report's title: "drive" for "runs/drive/" as for "runs/drive".
+std::string path_title(const std::filesystem::path& path);
 
 // Writes the HTML and says where (info); std::runtime_error when it cannot be written.
 void write_report(const std::string& path, const report::ReportInput& input);

@@ -154,8 +154,8 @@ InsLog read_ins_mcap(const std::filesystem::path& path, const McapInsOptions& op
   for (const auto& [id, channel] : channels) {
     if (is_pose_type(channel.type)) odometry_topics.push_back(channel.topic);
   }
-  const Channel* chosen = nullptr;
-  for (const auto& [id, channel] : channels) {
+  Channel* chosen = nullptr;
+  for (auto& [id, channel] : channels) {
     if (options.topic ? channel.topic == *options.topic : is_pose_type(channel.type)) {
       chosen = &channel;
       if (options.topic) break;
@@ -176,7 +176,7 @@ InsLog read_ins_mcap(const std::filesystem::path& path, const McapInsOptions& op
                                : fmt::format("holds {} pose topics ({}): pick one with --topic",
                                              odometry_topics.size(), join(odometry_topics)));
   }
-  std::vector<StampedRecord> stamped = chosen->records;
+  std::vector<StampedRecord> stamped = std::move(chosen->records);
   if (stamped.empty()) throw InputError(file, 0, chosen->topic, "the topic holds no messages");
   std::ranges::stable_sort(stamped, {}, &StampedRecord::stamp_ns);
   InsLog log;
