@@ -1,12 +1,12 @@
 // libFuzzer target for the MCAP reader (io/mcap_reader.hpp): records, chunks (lz4, zstd, none),
 // CRCs, truncation. Every input is read with and without allow_truncated, every handler set, and
 // each message's bytes touched (they must lie inside what was read); then read as a GNSS/INS log
-// from its Odometry topic (io/mcap_ins.hpp), whose records must be finite.
+// from its Odometry topic (io/bag_ins.hpp), whose records must be finite.
 #include <cstddef>
 #include <cstdint>
 
 #include "fuzz/fuzz_support.hpp"
-#include "x2car/io/mcap_ins.hpp"
+#include "x2car/io/bag_ins.hpp"
 #include "x2car/io/mcap_reader.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -26,12 +26,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     fuzz::accept_input_errors(
         "read_mcap", [&] { io::read_mcap(path, handlers, {.allow_truncated = allow_truncated}); });
   }
-  // A GNSS/INS log from its Odometry topic: ROS 2 CDR decoding (ros2_cdr.hpp, mcap_ins.hpp).
-  fuzz::accept_input_errors("read_ins_mcap", [&] {
-    for (const io::InsRecord& record : io::read_ins_mcap(path).records) {
-      fuzz::expect_finite(record.time, "read_ins_mcap time");
-      fuzz::expect_finite(record.attitude.yaw, "read_ins_mcap yaw");
-      fuzz::expect_finite(record.velocity_enu.x(), "read_ins_mcap velocity");
+  // A GNSS/INS log from its Odometry topic: ROS 2 CDR decoding (ros_message.hpp, bag_ins.hpp).
+  fuzz::accept_input_errors("read_ins_bag", [&] {
+    for (const io::InsRecord& record : io::read_ins_bag(path).records) {
+      fuzz::expect_finite(record.time, "read_ins_bag time");
+      fuzz::expect_finite(record.attitude.yaw, "read_ins_bag yaw");
+      fuzz::expect_finite(record.velocity_enu.x(), "read_ins_bag velocity");
     }
   });
   return checksum == 1 ? 1 : 0;  // keeps the reads; libFuzzer ignores the value

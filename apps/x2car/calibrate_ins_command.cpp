@@ -25,7 +25,7 @@ struct CalibrateInsArguments {
   std::string yaw_convention;  // empty: as the CSV header says
   std::string angle_unit = io::to_string(io::InsCsvOptions{}.angle_unit);
   std::vector<std::string> columns;  // --columns time=GPS Time,east=E,...
-  std::string topic;                 // an MCAP file's Odometry topic
+  std::string topic;                 // a bag's pose topic
   TrackArguments track;
   bool spline_velocity = false;
   OutputArguments output;
@@ -95,9 +95,9 @@ RunCommand setup_calibrate_ins_command(CLI::App& command) {
   command
       .add_option("-i,--input", arguments->input_path,
                   "GNSS/INS log: novatel_enu.csv, a generic CSV with a header, a KITTI OXTS "
-                  "folder, an MCAP file with a nav_msgs/msg/Odometry or PoseStamped topic (ROS 2 "
-                  "CDR), or a "
-                  "drive folder holding one (ins/novatel_enu.csv or x2car.yaml)")
+                  "folder, a bag (MCAP, ROS 1 .bag, ROS 2 bag folder) with a nav_msgs/Odometry or "
+                  "geometry_msgs/PoseStamped topic, or a drive folder holding one "
+                  "(ins/novatel_enu.csv or x2car.yaml)")
       ->type_name("PATH")
       ->required();
   command.add_option("--format", arguments->format, "Form of the input; auto detects it")
@@ -125,7 +125,7 @@ RunCommand setup_calibrate_ins_command(CLI::App& command) {
       ->delimiter(',');
   command
       .add_option("--topic", arguments->topic,
-                  "An MCAP file's Odometry or PoseStamped topic (default: its only one)")
+                  "A bag's Odometry or PoseStamped topic (default: its only one)")
       ->type_name("TOPIC");
   add_track_options(command, arguments->track, "samples");
   command.add_flag("--spline-velocity", arguments->spline_velocity,

@@ -1,5 +1,5 @@
-// x2car calibrate lidar: the LiDAR's roll, pitch, yaw and height from a folder of sweeps
-// (x2car/lidar).
+// x2car calibrate lidar: the LiDAR's roll, pitch, yaw and height from a folder of sweeps or a
+// bag's PointCloud2 topic (x2car/lidar).
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -10,6 +10,9 @@
 #include "apps/x2car/progress_bar.hpp"
 #include "apps/x2car/subcommand.hpp"
 #include "apps/x2car/track_options.hpp"
+#include "x2car/core/error.hpp"
+#include "x2car/io/bag.hpp"
+#include "x2car/lidar/bag_sweeps.hpp"
 #include "x2car/lidar/lidar_calibration.hpp"
 #include "x2car/lidar/sweep_folder.hpp"
 
@@ -21,6 +24,8 @@ struct CalibrateLidarArguments {
   std::optional<int> ground_every;
   std::optional<double> max_turn_rate_deg_s;
   bool skip_bad_sweeps = false;
+  std::string topic;  // a bag's PointCloud2 topic
+  bool allow_truncated = false;
   TrackArguments track;
   OutputArguments output;
 };
@@ -39,15 +44,29 @@ lidar::LidarCalibrationOptions calibration_options(const CalibrateLidarArguments
 
 int run_calibrate_lidar(const CalibrateLidarArguments& arguments) {
   check_output_arguments(arguments.output, {{{"--input", arguments.input_path}}});
-  const lidar::SweepFolder folder = lidar::list_sweeps(arguments.input_path);
-  spdlog::info("found {} sweeps in {} (times from {}; {} other files ignored)",
-               folder.sweeps.size(), folder.folder.string(), folder.time_source,
-               folder.ignored_files);
+  lidar::SweepSource sweeps;
+  if (io::bag_container_of(arguments.input_path)) {
+    lidar::BagSweepOptions bag_options;
+    if (!arguments.topic.empty()) bag_options.topic = arguments.topic;
+    bag_options.allow_truncated = arguments.allow_truncated;
+    lidar::BagSweeps bag = lidar::sweeps_from_bag(arguments.input_path, bag_options);
+    spdlog::info("found {} sweeps on {} (frame '{}') in {}", bag.source.times.size(), bag.topic,
+                 bag.frame_id, arguments.input_path);
+    sweeps = std::move(bag.source);
+  } else {
+    if (!arguments.topic.empty()) {
+      throw InputError(arguments.input_path, 0, "--topic", "is for a bag; this is a folder");
+    }
+    const lidar::SweepFolder folder = lidar::list_sweeps(arguments.input_path);
+    spdlog::info("found {} sweeps in {} (times from {}; {} other files ignored)",
+                 folder.sweeps.size(), folder.folder.string(), folder.time_source,
+                 folder.ignored_files);
+    sweeps = lidar::sweep_source_from(folder);
+  }
   lidar::LidarCalibrationOptions options = calibration_options(arguments);
   ProgressBar progress("sweeps", spdlog::should_log(spdlog::level::info));
   options.progress = progress.callback();
-  const CalibrationResult result =
-      lidar::calibrate_lidar(lidar::sweep_source_from(folder), options);
+  const CalibrationResult result = lidar::calibrate_lidar(sweeps, options);
   progress.finish();
   return finish_calibration(result, arguments.output,
                             report_context("lidar", arguments.input_path));
@@ -61,8 +80,9 @@ RunCommand setup_calibrate_lidar_command(CLI::App& command) {
   command
       .add_option("-i,--input", arguments->input_path,
                   "Folder of sweeps: PCD files named by time (or with times.txt), KITTI "
-                  "velodyne/*.bin with times.txt, or a drive folder holding lidar/")
-      ->type_name("DIR")
+                  "velodyne/*.bin with times.txt, or a drive folder holding lidar/; or a bag "
+                  "(MCAP, ROS 1 .bag, ROS 2 bag folder) with a sensor_msgs/PointCloud2 topic")
+      ->type_name("DIR|BAG")
       ->required();
   command
       .add_option("--ground-every", arguments->ground_every,
@@ -77,6 +97,10 @@ RunCommand setup_calibrate_lidar_command(CLI::App& command) {
   command.add_flag("--skip-bad-sweeps", arguments->skip_bad_sweeps,
                    "Skip sweeps that cannot be read (truncated, corrupt) instead of stopping; "
                    "they are counted in the result");
+  command.add_option("--topic", arguments->topic,
+                     "A bag's PointCloud2 topic (default: its only one)");
+  command.add_flag("--allow-truncated", arguments->allow_truncated,
+                   "Read an MCAP file cut short up to where it ends, instead of an error");
   add_track_options(command, arguments->track, "poses");
   add_output_options(command, arguments->output);
   command.footer(
@@ -84,7 +108,8 @@ RunCommand setup_calibrate_lidar_command(CLI::App& command) {
       "See docs/methods.md.\n"
       "\n"
       "Example:\n"
-      "  x2car calibrate lidar --input drive/lidar --out lidar.json");
+      "  x2car calibrate lidar --input drive/lidar --out lidar.json\n"
+      "  x2car calibrate lidar --input run.bag --topic /velodyne_points --out lidar.json");
   return [arguments] { return run_calibrate_lidar(*arguments); };
 }
 

@@ -1,10 +1,12 @@
-// x2car inspect: what a log holds (issue 17 item 3): for an MCAP file its topics, their message
-// types and encodings, counts, rates and time spans, and which calibrator could use each.
+// x2car inspect: what a log holds (issue 17 item 3): for a bag (MCAP, ROS 1, ROS 2; io/bag.hpp)
+// its topics, their message types and encodings, counts, rates and time spans, and which
+// calibrator could use each.
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -12,7 +14,7 @@
 #include "apps/x2car/exit_codes.hpp"
 #include "apps/x2car/subcommand.hpp"
 #include "x2car/core/error.hpp"
-#include "x2car/io/mcap_reader.hpp"
+#include "x2car/io/bag.hpp"
 
 namespace x2car::cli {
 namespace {
@@ -23,14 +25,11 @@ struct InspectArguments {
 };
 
 struct TopicStats {
-  std::string topic;
-  std::string type;
-  std::string encoding;
   std::int64_t count = 0;
-  std::uint64_t first_ns = 0;
-  std::uint64_t last_ns = 0;
+  std::int64_t first_ns = 0;
+  std::int64_t last_ns = 0;
   std::int64_t out_of_order = 0;  // messages logged before the one before them
-  std::uint64_t previous_ns = 0;
+  std::int64_t previous_ns = 0;
 };
 
 // "sensor_msgs/msg/PointCloud2" and ROS 1's "sensor_msgs/PointCloud2" alike.
@@ -63,82 +62,64 @@ std::string calibrator_for(const std::string& type) {
 
 int run_inspect(const InspectArguments& arguments) {
   const std::filesystem::path path(arguments.input_path);
-  if (!std::filesystem::is_regular_file(path)) {
-    throw InputError(arguments.input_path, "is not a file");
-  }
-  if (!io::looks_like_mcap(path) && std::filesystem::file_size(path) > 0) {
-    throw InputError(arguments.input_path,
-                     "not an MCAP file: x2car inspect reads MCAP (ROS 1 .bag and ROS 2 .db3 bags "
-                     "are not read yet)");
-  }
-  std::map<std::uint16_t, std::string> schema_names;
-  std::map<std::uint16_t, TopicStats> topics;
-  io::McapHandlers handlers;
-  handlers.on_schema = [&](const io::McapSchema& schema) { schema_names[schema.id] = schema.name; };
-  handlers.on_channel = [&](const io::McapChannel& channel) {
-    TopicStats& stats = topics[channel.id];
-    stats.topic = channel.topic;
-    stats.encoding = channel.message_encoding;
-    const auto schema = schema_names.find(channel.schema_id);
-    stats.type = schema == schema_names.end() ? "(no schema)" : schema->second;
-  };
-  handlers.on_message = [&](const io::McapMessage& message) {
-    const auto found = topics.find(message.channel_id);
-    if (found == topics.end()) {
-      throw InputError(arguments.input_path,
-                       fmt::format("a message on channel {}, which no channel record declares",
-                                   message.channel_id));
-    }
-    TopicStats& stats = found->second;
-    if (stats.count == 0) {
-      stats.first_ns = stats.last_ns = message.log_time_ns;
-    } else if (message.log_time_ns < stats.previous_ns) {
-      ++stats.out_of_order;
-    }
-    stats.first_ns = std::min(stats.first_ns, message.log_time_ns);
-    stats.last_ns = std::max(stats.last_ns, message.log_time_ns);
-    stats.previous_ns = message.log_time_ns;
-    ++stats.count;
-  };
-  const io::McapReadEnd end =
-      io::read_mcap(path, handlers, {.allow_truncated = arguments.allow_truncated});
+  const std::unique_ptr<io::BagFile> bag =
+      io::open_bag(path, {.allow_truncated = arguments.allow_truncated});
+  std::vector<TopicStats> topics;
+  // Only the times are needed: no topic's data is asked for (MCAP decompresses its chunks anyway).
+  const io::BagScanEnd end =
+      bag->scan([](const io::BagTopic&) { return false; }, [&](const io::BagMessage& message) {
+        topics.resize(bag->topics().size());
+        TopicStats& stats = topics[message.topic];
+        if (stats.count == 0) {
+          stats.first_ns = stats.last_ns = message.log_time_ns;
+        } else if (message.log_time_ns < stats.previous_ns) {
+          ++stats.out_of_order;
+        }
+        stats.first_ns = std::min(stats.first_ns, message.log_time_ns);
+        stats.last_ns = std::max(stats.last_ns, message.log_time_ns);
+        stats.previous_ns = message.log_time_ns;
+        ++stats.count;
+      });
+  topics.resize(bag->topics().size());
 
   std::int64_t messages = 0;
-  std::optional<std::uint64_t> first;
-  std::optional<std::uint64_t> last;
-  for (const auto& [id, stats] : topics) {
+  std::optional<std::int64_t> first;
+  std::optional<std::int64_t> last;
+  for (const TopicStats& stats : topics) {
     messages += stats.count;
     if (stats.count == 0) continue;
     first = std::min(first.value_or(stats.first_ns), stats.first_ns);
     last = std::max(last.value_or(stats.last_ns), stats.last_ns);
   }
   const double span_s = first ? static_cast<double>(*last - *first) * 1e-9 : 0.0;
-  std::cout << fmt::format(
-      "{}: MCAP, profile '{}', written by '{}'; {} topics, {} messages over "
-      "{:.3f} s\n",
-      arguments.input_path, end.profile, end.library, topics.size(), messages, span_s);
+  std::cout << fmt::format("{}: {}, written by '{}'; {} topics, {} messages over {:.3f} s\n",
+                           arguments.input_path, io::bag_container_name(bag->container()),
+                           end.writer, topics.size(), messages, span_s);
   if (end.truncated_at) {
     std::cout << fmt::format("cut short at byte {}: the counts are what comes before\n",
                              *end.truncated_at);
   }
   std::cout << fmt::format("{:<32} {:<34} {:<8} {:>9} {:>9} {:>11} {:>8}  {}\n", "topic", "type",
                            "encoding", "messages", "rate [Hz]", "span [s]", "late", "for");
-  for (const auto& [id, stats] : topics) {
+  for (std::size_t i = 0; i < topics.size(); ++i) {
+    const TopicStats& stats = topics[i];
+    const io::BagTopic& topic = bag->topics()[i];
     const double topic_span_s = static_cast<double>(stats.last_ns - stats.first_ns) * 1e-9;
     const std::string rate =
         stats.count > 1 && topic_span_s > 0.0
             ? fmt::format("{:.2f}", static_cast<double>(stats.count - 1) / topic_span_s)
             : "—";
-    std::cout << fmt::format("{:<32} {:<34} {:<8} {:>9} {:>9} {:>11.3f} {:>8}  {}\n", stats.topic,
-                             stats.type, stats.encoding, stats.count, rate, topic_span_s,
-                             stats.out_of_order, calibrator_for(stats.type));
+    std::cout << fmt::format("{:<32} {:<34} {:<8} {:>9} {:>9} {:>11.3f} {:>8}  {}\n", topic.name,
+                             topic.type.empty() ? "(no schema)" : topic.type, topic.encoding,
+                             stats.count, rate, topic_span_s, stats.out_of_order,
+                             calibrator_for(topic.type));
   }
   std::cout
       << "(late: messages logged before the one before them on their topic. 'for': which "
-         "calibrator's data a topic holds; from MCAP, x2car calibrates the GNSS/INS from a "
-         "nav_msgs/msg/Odometry or geometry_msgs/msg/PoseStamped topic in ROS 2 CDR (calibrate "
-         "ins --input FILE --topic T); "
-         "the other types are not read yet.)\n";
+         "calibrator's data a topic holds. x2car calibrates the GNSS/INS from a nav_msgs/Odometry "
+         "or geometry_msgs/PoseStamped topic (calibrate ins --input BAG --topic T) and the LiDAR "
+         "from a sensor_msgs/PointCloud2 topic (calibrate lidar --input BAG --topic T); the "
+         "other types are not read yet.)\n";
   return kExitOk;
 }
 
@@ -146,8 +127,10 @@ int run_inspect(const InspectArguments& arguments) {
 
 RunCommand setup_inspect_command(CLI::App& command) {
   auto arguments = std::make_shared<InspectArguments>();
-  command.add_option("input", arguments->input_path, "The log file (MCAP)")
-      ->type_name("FILE")
+  command
+      .add_option("input", arguments->input_path,
+                  "The log: an MCAP file, a ROS 1 .bag, or a ROS 2 bag folder (or its .db3 file)")
+      ->type_name("BAG")
       ->required();
   command.add_flag("--allow-truncated", arguments->allow_truncated,
                    "Read a file cut short up to where it ends, instead of stopping with an error");
@@ -156,7 +139,8 @@ RunCommand setup_inspect_command(CLI::App& command) {
       "logged out of order, and which calibrator can use them.\n"
       "\n"
       "Example:\n"
-      "  x2car inspect drive.mcap");
+      "  x2car inspect drive.mcap\n"
+      "  x2car inspect rosbag2_2026_11_26-10_00_00/");
   return [arguments] { return run_inspect(*arguments); };
 }
 

@@ -9,8 +9,8 @@
 
 #include "x2car/core/enum_names.hpp"
 #include "x2car/core/error.hpp"
-#include "x2car/io/mcap_ins.hpp"
-#include "x2car/io/mcap_reader.hpp"
+#include "x2car/io/bag.hpp"
+#include "x2car/io/bag_ins.hpp"
 #include "x2car/io/novatel_csv.hpp"
 #include "x2car/io/oxts.hpp"
 #include "x2car/io/text_lines.hpp"
@@ -25,7 +25,7 @@ constexpr std::array<EnumName<InsFormat>, 5> kInsFormatNames{{
     {InsFormat::kNovatel, "novatel"},
     {InsFormat::kCsv, "csv"},
     {InsFormat::kOxts, "oxts"},
-    {InsFormat::kMcap, "mcap"},
+    {InsFormat::kBag, "bag"},
 }};
 
 // novatel when the first line that is neither blank nor a '#' comment starts with the field
@@ -81,8 +81,8 @@ std::vector<std::string> ins_format_names() { return enum_names(kInsFormatNames)
 InsFormat detect_ins_format(const fs::path& path) {
   check_exists(path);
   std::error_code error;
+  if (bag_container_of(path)) return InsFormat::kBag;
   if (fs::is_directory(path, error)) return InsFormat::kOxts;
-  if (looks_like_mcap(path)) return InsFormat::kMcap;
   // Reads only up to the first line with content (a header is short; the log may be large).
   std::ifstream stream(path, std::ios::binary);
   if (!stream) throw InputError(path.string(), "cannot open file for reading");
@@ -96,9 +96,9 @@ InsFormat detect_ins_format(const fs::path& path) {
 
 InsLog read_ins_log(const fs::path& path, const InsReadOptions& options) {
   check_exists(path);
-  if (options.format == InsFormat::kMcap ||
-      (options.format == InsFormat::kAuto && detect_ins_format(path) == InsFormat::kMcap)) {
-    return read_ins_mcap(path, {.topic = options.topic, .allow_truncated = false});
+  if (options.format == InsFormat::kBag ||
+      (options.format == InsFormat::kAuto && detect_ins_format(path) == InsFormat::kBag)) {
+    return read_ins_bag(path, {.topic = options.topic, .allow_truncated = false});
   }
   if (options.format == InsFormat::kOxts ||
       (options.format == InsFormat::kAuto && detect_ins_format(path) == InsFormat::kOxts)) {

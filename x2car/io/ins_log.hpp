@@ -18,9 +18,9 @@
 
 namespace x2car::io {
 
-enum class InsFormat { kAuto, kNovatel, kCsv, kOxts, kMcap };
+enum class InsFormat { kAuto, kNovatel, kCsv, kOxts, kBag };
 
-// "auto", "novatel", "csv", "oxts", "mcap"; parsing throws std::invalid_argument listing the
+// "auto", "novatel", "csv", "oxts", "bag" (MCAP, ROS 1 or ROS 2: bag.hpp); parsing throws std::invalid_argument listing the
 // names.
 const char* to_string(InsFormat format);
 InsFormat ins_format_from_string(const std::string& text);
@@ -29,7 +29,7 @@ std::vector<std::string> ins_format_names();
 struct InsReadOptions {
   InsFormat format = InsFormat::kAuto;
   InsCsvOptions csv;  // how the generic CSV's columns are read
-  // An MCAP file's Odometry topic (mcap_ins.hpp); unset: its only one.
+  // A bag's pose topic (bag_ins.hpp); unset: its only one.
   std::optional<std::string> topic;
 };
 

@@ -188,13 +188,13 @@ TEST_F(InsLogTest, MissingPathIsAnInputError) {
 
 TEST(InsFormatNames, RoundTripAndUnknownNamesAreListed) {
   const std::vector<std::string> names = ins_format_names();
-  EXPECT_EQ(names, (std::vector<std::string>{"auto", "novatel", "csv", "oxts", "mcap"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"auto", "novatel", "csv", "oxts", "bag"}));
   for (const std::string& name : names) EXPECT_EQ(to_string(ins_format_from_string(name)), name);
   try {
     ins_format_from_string("nmea");
     ADD_FAILURE() << "no exception";
   } catch (const std::invalid_argument& error) {
-    EXPECT_THAT(error.what(), HasSubstr("auto, novatel, csv, oxts, mcap"));
+    EXPECT_THAT(error.what(), HasSubstr("auto, novatel, csv, oxts, bag"));
   }
 }
 

@@ -120,7 +120,12 @@ void dispatch_records(std::string_view records, const McapHandlers& handlers,
     const Fields inner(content, file, chunk_offset);
     if (opcode == kSchema && handlers.on_schema) handlers.on_schema(parse_schema(inner));
     if (opcode == kChannel && handlers.on_channel) handlers.on_channel(parse_channel(inner));
-    if (opcode == kMessage && handlers.on_message) handlers.on_message(parse_message(inner));
+    if (opcode == kMessage && handlers.on_message) {
+      McapMessage message = parse_message(inner);
+      message.chunk_offset = chunk_offset;
+      message.data_offset = static_cast<std::uint64_t>(message.data.data() - records.data());
+      handlers.on_message(message);
+    }
   }
 }
 
@@ -169,8 +174,9 @@ void decompress_zstd(std::string_view compressed, std::vector<char>& out, const 
   }
 }
 
-void read_chunk(std::string_view content, const McapHandlers& handlers, const std::string& file,
-                std::uint64_t offset, std::vector<char>& buffer) {
+// A chunk record's content: its records, decompressed into `buffer` when compressed.
+std::string_view chunk_records(std::string_view content, const std::string& file,
+                               std::uint64_t offset, std::vector<char>& buffer) {
   Fields fields(content, file, offset);
   fields.integer<std::uint64_t>("chunk.message_start_time");
   fields.integer<std::uint64_t>("chunk.message_end_time");
@@ -223,7 +229,7 @@ void read_chunk(std::string_view content, const McapHandlers& handlers, const st
                                          offset, computed, crc));
     }
   }
-  dispatch_records(plain, handlers, file, offset);
+  return plain;
 }
 
 }  // namespace
@@ -300,10 +306,15 @@ McapReadEnd read_mcap(const std::filesystem::path& path, const McapHandlers& han
         if (handlers.on_channel) handlers.on_channel(parse_channel(fields));
         break;
       case kMessage:
-        if (handlers.on_message) handlers.on_message(parse_message(fields));
+        if (handlers.on_message) {
+          McapMessage message = parse_message(fields);
+          message.data_offset =
+              offset + head.size() + static_cast<std::uint64_t>(message.data.data() - bytes.data());
+          handlers.on_message(message);
+        }
         break;
       case kChunk:
-        read_chunk(bytes, handlers, file, offset, chunk_buffer);
+        dispatch_records(chunk_records(bytes, file, offset, chunk_buffer), handlers, file, offset);
         break;
       case kDataEnd:
       case kFooter:
@@ -315,6 +326,40 @@ McapReadEnd read_mcap(const std::filesystem::path& path, const McapHandlers& han
     }
     offset += head.size() + length;
   }
+}
+
+std::string read_mcap_message(const std::filesystem::path& path, std::uint64_t chunk_offset,
+                              std::uint64_t data_offset, std::uint64_t size) {
+  const std::string file = path.string();
+  std::ifstream stream(path, std::ios::binary);
+  if (!stream) throw InputError(file, "cannot open the file");
+  const auto read_at = [&](std::uint64_t at, std::uint64_t count, const char* what) {
+    std::string bytes(count, '\0');
+    stream.seekg(static_cast<std::streamoff>(at));
+    if (!stream.read(bytes.data(), static_cast<std::streamsize>(count))) {
+      throw InputError(file, fmt::format("cannot read {} at byte {} again (the file changed?)",
+                                         what, at));
+    }
+    return bytes;
+  };
+  if (chunk_offset == 0) return read_at(data_offset, size, "a message");
+  const std::string head = read_at(chunk_offset, 9, "a chunk");
+  std::uint64_t length = 0;
+  for (int i = 0; i < 8; ++i) {
+    length |= static_cast<std::uint64_t>(static_cast<unsigned char>(head[1 + i])) << (8 * i);
+  }
+  if (static_cast<std::uint8_t>(head[0]) != kChunk || length > (std::uint64_t{1} << 31)) {
+    throw InputError(file, fmt::format("no chunk at byte {} (the file changed?)", chunk_offset));
+  }
+  const std::string content = read_at(chunk_offset + 9, length, "a chunk");
+  std::vector<char> buffer;
+  const std::string_view records = chunk_records(content, file, chunk_offset, buffer);
+  if (data_offset > records.size() || size > records.size() - data_offset) {
+    throw InputError(file, fmt::format("the chunk at byte {} does not hold the message at {} "
+                                       "(the file changed?)",
+                                       chunk_offset, data_offset));
+  }
+  return std::string(records.substr(data_offset, size));
 }
 
 }  // namespace x2car::io

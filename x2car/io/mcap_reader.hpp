@@ -44,6 +44,10 @@ struct McapMessage {
   std::uint64_t log_time_ns = 0;
   std::uint64_t publish_time_ns = 0;
   std::string_view data;  // valid during the handler call only
+  // Where the data lies, for read_mcap_message: the file offset of the chunk record holding it
+  // (0: not in a chunk) and the data's offset in the chunk's records or, outside a chunk, the file.
+  std::uint64_t chunk_offset = 0;
+  std::uint64_t data_offset = 0;
 };
 
 struct McapHandlers {
@@ -70,5 +74,10 @@ bool looks_like_mcap(const std::filesystem::path& path);
 // Streams the file's records to the handlers (unset handlers are skipped). Throws InputError.
 McapReadEnd read_mcap(const std::filesystem::path& path, const McapHandlers& handlers,
                       const McapReadOptions& options = {});
+
+// The data of one message that read_mcap delivered, read again (its chunk decompressed anew):
+// `message` gives chunk_offset, data_offset and the data's size. Throws InputError.
+std::string read_mcap_message(const std::filesystem::path& path, std::uint64_t chunk_offset,
+                              std::uint64_t data_offset, std::uint64_t size);
 
 }  // namespace x2car::io

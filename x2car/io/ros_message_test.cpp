@@ -1,4 +1,4 @@
-#include "x2car/io/ros2_cdr.hpp"
+#include "x2car/io/ros_message.hpp"
 
 #include <gtest/gtest.h>
 
@@ -39,13 +39,13 @@ struct Cdr {
   }
 };
 
-TEST(CdrReader, ReadsAlignedFieldsInBothByteOrders) {
+TEST(RosMessageReader, ReadsAlignedFieldsInBothByteOrders) {
   for (const bool big : {false, true}) {
     Cdr cdr(big);
     cdr.put<std::uint32_t>(std::bit_cast<std::uint32_t>(std::int32_t{-5}));
     cdr.put<std::uint32_t>(7).text("map").put<std::uint8_t>(3);
     cdr.put<std::uint64_t>(std::bit_cast<std::uint64_t>(1.25));  // aligned to 8 after the byte
-    CdrReader reader(cdr.bytes, "message");
+    RosMessageReader reader(cdr.bytes, RosEncoding::kCdr, "message");
     EXPECT_EQ(reader.int32("sec"), -5) << big;
     EXPECT_EQ(reader.uint32("nanosec"), 7U);
     EXPECT_EQ(reader.string("frame_id"), "map");
@@ -54,10 +54,10 @@ TEST(CdrReader, ReadsAlignedFieldsInBothByteOrders) {
   }
 }
 
-TEST(CdrReader, ErrorsNameTheField) {
+TEST(RosMessageReader, ErrorsNameTheField) {
   Cdr cdr;
   cdr.put<std::uint32_t>(1);
-  CdrReader reader(cdr.bytes, "run.mcap (/odom message 3)");
+  RosMessageReader reader(cdr.bytes, RosEncoding::kCdr, "run.mcap (/odom message 3)");
   reader.uint32("header.stamp.sec");
   try {
     reader.float64("pose.pose.position.x");
@@ -66,8 +66,38 @@ TEST(CdrReader, ErrorsNameTheField) {
     EXPECT_EQ(error.field(), "pose.pose.position.x");
     EXPECT_NE(std::string(error.what()).find("/odom message 3"), std::string::npos);
   }
-  EXPECT_THROW(CdrReader(std::string("\x01\x02", 2), "m"), InputError);
-  EXPECT_THROW(CdrReader(std::string("\x00\x07\x00\x00", 4), "m"), InputError);
+  EXPECT_THROW(RosMessageReader(std::string("\x01\x02", 2), RosEncoding::kCdr, "m"), InputError);
+  EXPECT_THROW(RosMessageReader(std::string("\x00\x07\x00\x00", 4), RosEncoding::kCdr, "m"), InputError);
+}
+
+// ROS 1: packed little-endian, strings without a NUL, Header with its seq.
+TEST(RosMessageReader, ReadsRos1PackedFields) {
+  std::string bytes;
+  const auto put32 = [&](std::uint32_t value) {
+    for (int i = 0; i < 4; ++i) bytes += static_cast<char>((value >> (8 * i)) & 0xff);
+  };
+  put32(17);          // seq
+  put32(12);          // stamp.sec
+  put32(300000000);   // stamp.nsec
+  put32(5);
+  bytes += "lidar";   // frame_id, no NUL
+  bytes += '\x01';    // a bool, then a float64 right after it (no alignment)
+  const auto value = std::bit_cast<std::uint64_t>(-2.5);
+  for (int i = 0; i < 8; ++i) bytes += static_cast<char>((value >> (8 * i)) & 0xff);
+  RosMessageReader reader(bytes, RosEncoding::kRos1, "run.bag (/points message 1)");
+  const RosHeader header = reader.header();
+  EXPECT_EQ(header.stamp_ns, 12'300'000'000LL);
+  EXPECT_EQ(header.frame_id, "lidar");
+  EXPECT_TRUE(reader.boolean("is_dense"));
+  EXPECT_EQ(reader.float64("x"), -2.5);
+  EXPECT_THROW(reader.uint8("past the end"), InputError);
+}
+
+TEST(RosMessageReader, RejectsANanosecondPartOfASecondOrMore) {
+  Cdr cdr;
+  cdr.put<std::uint32_t>(1).put<std::uint32_t>(1'000'000'000U);
+  RosMessageReader reader(cdr.bytes, RosEncoding::kCdr, "m");
+  EXPECT_THROW(reader.time_ns("header.stamp"), InputError);
 }
 
 }  // namespace

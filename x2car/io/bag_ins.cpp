@@ -1,4 +1,4 @@
-#include "x2car/io/mcap_ins.hpp"
+#include "x2car/io/bag_ins.hpp"
 
 #include <fmt/format.h>
 
@@ -12,16 +12,16 @@
 
 #include "x2car/core/error.hpp"
 #include "x2car/core/rotation.hpp"
-#include "x2car/io/mcap_reader.hpp"
+#include "x2car/io/bag.hpp"
 #include "x2car/io/novatel_csv.hpp"
-#include "x2car/io/ros2_cdr.hpp"
+#include "x2car/io/ros_message.hpp"
 #include "x2car/io/text_lines.hpp"
 
 namespace x2car::io {
 namespace {
 
-constexpr const char* kOdometryType = "nav_msgs/msg/Odometry";
-constexpr const char* kPoseStampedType = "geometry_msgs/msg/PoseStamped";
+constexpr const char* kOdometryType = "nav_msgs/Odometry";
+constexpr const char* kPoseStampedType = "geometry_msgs/PoseStamped";
 constexpr std::int64_t kUnixStampNs = 100'000'000LL * 1'000'000'000LL;  // 10^8 s
 
 struct StampedRecord {
@@ -34,21 +34,9 @@ double finite(double value, const std::string& source, const char* field) {
   return value;
 }
 
-// std_msgs/Header: the stamp [ns]; the frame id is read past.
-std::int64_t read_stamp(CdrReader& cdr, const std::string& source) {
-  const std::int32_t sec = cdr.int32("header.stamp.sec");
-  const std::uint32_t nanosec = cdr.uint32("header.stamp.nanosec");
-  if (nanosec >= 1'000'000'000U) {
-    throw InputError(source, 0, "header.stamp.nanosec",
-                     fmt::format("{} is not below 10^9", nanosec));
-  }
-  cdr.string("header.frame_id");
-  return static_cast<std::int64_t>(sec) * 1'000'000'000LL + nanosec;
-}
-
 // geometry_msgs/Pose (`prefix` names it in messages, e.g. "pose.pose"): the position, and the
 // orientation as world_from_device.
-std::pair<Eigen::Vector3d, Eigen::Matrix3d> read_pose(CdrReader& cdr, const std::string& prefix,
+std::pair<Eigen::Vector3d, Eigen::Matrix3d> read_pose(RosMessageReader& cdr, const std::string& prefix,
                                                       const std::string& source) {
   const auto value = [&](const char* name) {
     const std::string field = prefix + name;
@@ -73,10 +61,11 @@ std::pair<Eigen::Vector3d, Eigen::Matrix3d> read_pose(CdrReader& cdr, const std:
 
 // nav_msgs/msg/Odometry: header, child_frame_id, pose (Pose, covariance[36]), twist (linear xyz,
 // angular xyz, covariance[36]); the twist in the device's axes.
-StampedRecord decode_odometry(std::string_view bytes, const std::string& source) {
-  CdrReader cdr(bytes, source);
+StampedRecord decode_odometry(std::string_view bytes, RosEncoding encoding,
+                              const std::string& source) {
+  RosMessageReader cdr(bytes, encoding, source);
   StampedRecord out;
-  out.stamp_ns = read_stamp(cdr, source);
+  out.stamp_ns = cdr.header().stamp_ns;
   cdr.string("child_frame_id");
   const auto [position, world_from_device] = read_pose(cdr, "pose.pose", source);
   cdr.skip_float64s(36, "pose.covariance");
@@ -92,10 +81,11 @@ StampedRecord decode_odometry(std::string_view bytes, const std::string& source)
 
 // geometry_msgs/msg/PoseStamped: header, pose. No velocity: the calibrator differentiates the
 // smoothed track (as for a CSV without velocity columns).
-StampedRecord decode_pose_stamped(std::string_view bytes, const std::string& source) {
-  CdrReader cdr(bytes, source);
+StampedRecord decode_pose_stamped(std::string_view bytes, RosEncoding encoding,
+                                  const std::string& source) {
+  RosMessageReader cdr(bytes, encoding, source);
   StampedRecord out;
-  out.stamp_ns = read_stamp(cdr, source);
+  out.stamp_ns = cdr.header().stamp_ns;
   const auto [position, world_from_device] = read_pose(cdr, "pose", source);
   out.record.position_enu = position;
   out.record.attitude = euler_from_rotation(world_from_device);
@@ -103,91 +93,63 @@ StampedRecord decode_pose_stamped(std::string_view bytes, const std::string& sou
 }
 
 bool is_pose_type(const std::string& type) {
-  return type == kOdometryType || type == kPoseStampedType;
+  return ros_type_is(type, kOdometryType) || ros_type_is(type, kPoseStampedType);
 }
-
-struct Channel {
-  std::string topic;
-  std::string type;
-  std::string encoding;
-  std::vector<StampedRecord> records;
-  std::int64_t count = 0;
-};
 
 }  // namespace
 
-InsLog read_ins_mcap(const std::filesystem::path& path, const McapInsOptions& options) {
+InsLog read_ins_bag(const std::filesystem::path& path, const BagInsOptions& options) {
   const std::string file = path.string();
-  std::map<std::uint16_t, std::string> schema_names;
-  std::map<std::uint16_t, Channel> channels;
-  McapHandlers handlers;
-  handlers.on_schema = [&](const McapSchema& schema) { schema_names[schema.id] = schema.name; };
-  handlers.on_channel = [&](const McapChannel& mcap_channel) {
-    Channel& channel = channels[mcap_channel.id];
-    channel.topic = mcap_channel.topic;
-    channel.encoding = mcap_channel.message_encoding;
-    const auto schema = schema_names.find(mcap_channel.schema_id);
-    channel.type = schema == schema_names.end() ? std::string() : schema->second;
+  const std::unique_ptr<BagFile> bag = open_bag(path, {.allow_truncated = options.allow_truncated});
+  const auto chosen_topic = [&](const BagTopic& topic) {
+    return options.topic ? topic.name == *options.topic : is_pose_type(topic.type);
   };
-  handlers.on_message = [&](const McapMessage& message) {
-    const auto found = channels.find(message.channel_id);
-    if (found == channels.end()) return;  // inspect names such files; a log reader skips them
-    Channel& channel = found->second;
-    ++channel.count;
-    if (!is_pose_type(channel.type)) return;
-    if (options.topic && *options.topic != channel.topic) return;
-    if (channel.encoding != "cdr") {
-      throw InputError(file, 0, channel.topic,
-                       fmt::format("the {} messages are encoded as '{}'; x2car reads ROS 2 CDR "
-                                   "('cdr') here",
-                                   channel.type, channel.encoding));
-    }
-    const std::string source =
-        fmt::format("{} ({} message {})", file, channel.topic, channel.count);
-    channel.records.push_back(channel.type == kOdometryType
-                                  ? decode_odometry(message.data, source)
-                                  : decode_pose_stamped(message.data, source));
-  };
-  read_mcap(path, handlers, {.allow_truncated = options.allow_truncated});
+  std::vector<StampedRecord> stamped;
+  std::vector<std::int64_t> counts;
+  bag->scan(chosen_topic, [&](const BagMessage& message) {
+    counts.resize(bag->topics().size(), 0);
+    const std::int64_t count = ++counts[message.topic];
+    const BagTopic& topic = bag->topics()[message.topic];
+    if (!chosen_topic(topic) || !is_pose_type(topic.type)) return;
+    const RosEncoding encoding = ros_encoding_of(topic, path);
+    const std::string source = fmt::format("{} ({} message {})", file, topic.name, count);
+    stamped.push_back(ros_type_is(topic.type, kOdometryType)
+                          ? decode_odometry(message.data, encoding, source)
+                          : decode_pose_stamped(message.data, encoding, source));
+  });
 
-  std::vector<std::string> odometry_topics;
-  for (const auto& [id, channel] : channels) {
-    if (is_pose_type(channel.type)) odometry_topics.push_back(channel.topic);
-  }
-  Channel* chosen = nullptr;
-  for (auto& [id, channel] : channels) {
-    if (options.topic ? channel.topic == *options.topic : is_pose_type(channel.type)) {
-      chosen = &channel;
-      if (options.topic) break;
-    }
+  std::vector<std::string> pose_topics;
+  const BagTopic* chosen = nullptr;
+  for (const BagTopic& topic : bag->topics()) {
+    if (is_pose_type(topic.type)) pose_topics.push_back(topic.name);
+    if (chosen_topic(topic) && chosen == nullptr) chosen = &topic;
   }
   if (options.topic && (chosen == nullptr || !is_pose_type(chosen->type))) {
     throw InputError(
         file, 0, *options.topic,
         chosen == nullptr
             ? fmt::format("no such topic; the pose topics: {}",
-                          odometry_topics.empty() ? "none" : join(odometry_topics))
+                          pose_topics.empty() ? "none" : join(pose_topics))
             : fmt::format("is {}, not {} or {}", chosen->type, kOdometryType, kPoseStampedType));
   }
-  if (!options.topic && odometry_topics.size() != 1) {
-    throw InputError(file, odometry_topics.empty()
+  if (!options.topic && pose_topics.size() != 1) {
+    throw InputError(file, pose_topics.empty()
                                ? fmt::format("holds no {} or {} topic for a GNSS/INS log",
                                              kOdometryType, kPoseStampedType)
                                : fmt::format("holds {} pose topics ({}): pick one with --topic",
-                                             odometry_topics.size(), join(odometry_topics)));
+                                             pose_topics.size(), join(pose_topics)));
   }
-  std::vector<StampedRecord> stamped = std::move(chosen->records);
-  if (stamped.empty()) throw InputError(file, 0, chosen->topic, "the topic holds no messages");
+  if (stamped.empty()) throw InputError(file, 0, chosen->name, "the topic holds no messages");
   std::ranges::stable_sort(stamped, {}, &StampedRecord::stamp_ns);
   InsLog log;
-  log.format = InsFormat::kMcap;
+  log.format = InsFormat::kBag;
   const std::int64_t first_ns = stamped.front().stamp_ns;
   const bool unix_clock = first_ns >= kUnixStampNs;
   if (unix_clock) log.start_unix_time = static_cast<double>(first_ns) * 1e-9;
   for (std::size_t i = 0; i < stamped.size(); ++i) {
     if (i > 0 && stamped[i].stamp_ns == stamped[i - 1].stamp_ns) {
       throw InputError(
-          file, 0, chosen->topic,
+          file, 0, chosen->name,
           fmt::format("two messages stamped {} s", format_number(stamped[i].stamp_ns * 1e-9)));
     }
     InsRecord record = stamped[i].record;

@@ -1,6 +1,6 @@
-// A GNSS/INS log from an MCAP file (issue 17 item 2): a `nav_msgs/msg/Odometry` or
-// `geometry_msgs/msg/PoseStamped` topic in ROS 2 CDR, as a localisation or INS driver publishes
-// it: the pose of the device (child frame) in an ENU world frame, and (Odometry) its velocity in
+// A GNSS/INS log from a bag (io/bag.hpp: MCAP, ROS 1 or ROS 2; issue 17 item 2): a
+// `nav_msgs/Odometry` or `geometry_msgs/PoseStamped` topic in either encoding, as a localisation
+// or INS driver publishes it: the pose of the device (child frame) in an ENU world frame, and (Odometry) its velocity in
 // its own axes (REP 103/105). Each message becomes one record: time = header.stamp, position =
 // pose.position, attitude = the orientation as Rz(yaw) Ry(pitch) Rx(roll), velocity_enu =
 // orientation * twist.linear (zero for PoseStamped: the calibrator then differentiates the
@@ -20,7 +20,7 @@
 
 namespace x2car::io {
 
-struct McapInsOptions {
+struct BagInsOptions {
   // The topic; unset: the file's one Odometry or PoseStamped topic (an error listing them when
   // there are more).
   std::optional<std::string> topic;
@@ -28,8 +28,8 @@ struct McapInsOptions {
 };
 
 // InputError naming the file (and the topic or message) for a file without a pose topic, an
-// unknown --topic (listing those there are), a message that is not CDR or ends early, a
+// unknown --topic (listing those there are), a message in another encoding or that ends early, a
 // non-finite value, a quaternion far from unit length, or repeated stamps.
-InsLog read_ins_mcap(const std::filesystem::path& path, const McapInsOptions& options = {});
+InsLog read_ins_bag(const std::filesystem::path& path, const BagInsOptions& options = {});
 
 }  // namespace x2car::io

@@ -1,0 +1,103 @@
+// ROS 1 bags through the ROS library itself (Debian's librosbag): its index gives the connections
+// and the messages in time order. The only file that includes its headers (they are heavy).
+#include <fmt/format.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+
+#include <map>
+#include <memory>
+#include <mutex>
+#include <utility>
+#include <vector>
+
+#include "x2car/core/error.hpp"
+#include "x2car/io/bag.hpp"
+
+namespace x2car::io {
+namespace {
+
+class Ros1Bag final : public BagFile {
+ public:
+  explicit Ros1Bag(std::filesystem::path path) : BagFile(std::move(path)) {
+    try {
+      bag_.open(path_.string(), rosbag::bagmode::Read);
+      rosbag::View all(bag_);
+      for (const rosbag::ConnectionInfo* connection : all.getConnections()) {
+        // A topic may have several connections (publishers); it is one topic here.
+        if (topic_by_name_.contains(connection->topic)) continue;
+        topic_by_name_[connection->topic] = topics_.size();
+        topics_.push_back({.name = connection->topic,
+                           .type = connection->datatype,
+                           .encoding = "ros1",
+                           .definition = connection->msg_def});
+      }
+    } catch (const rosbag::BagUnindexedException&) {
+      throw InputError(path_.string(),
+                       "the bag has no index (a recording that did not close?): run `rosbag "
+                       "reindex` on it first");
+    } catch (const rosbag::BagException& error) {
+      throw InputError(path_.string(), fmt::format("not a readable ROS 1 bag: {}", error.what()));
+    }
+  }
+
+  BagContainer container() const override { return BagContainer::kRos1; }
+
+  BagScanEnd scan(const std::function<bool(const BagTopic&)>& wanted,
+                  const std::function<void(const BagMessage&)>& on_message) override {
+    std::vector<bool> topic_wanted;
+    for (const BagTopic& topic : topics_) topic_wanted.push_back(!wanted || wanted(topic));
+    std::string buffer;
+    try {
+      rosbag::View view(bag_);
+      for (const rosbag::MessageInstance& instance : view) {
+        BagMessage message;
+        message.topic = topic_by_name_.at(instance.getTopic());
+        message.log_time_ns = static_cast<std::int64_t>(instance.getTime().toNSec());
+        if (topic_wanted[message.topic]) {
+          buffer = bytes_of(instance);
+          message.data = buffer;
+          message.ref.at = kept_.size();
+          kept_.push_back(instance);
+        }
+        on_message(message);
+      }
+    } catch (const rosbag::BagException& error) {
+      throw InputError(path_.string(), fmt::format("cannot read the bag: {}", error.what()));
+    }
+    return {.writer = "ROS 1 bag 2.0", .truncated_at = std::nullopt};
+  }
+
+  std::string read(const BagMessageRef& ref) const override {
+    // The library reads through one file handle.
+    const std::lock_guard lock(mutex_);
+    if (ref.at >= kept_.size()) throw std::out_of_range("Ros1Bag::read: no such message");
+    try {
+      return bytes_of(kept_[ref.at]);
+    } catch (const rosbag::BagException& error) {
+      throw InputError(path_.string(), fmt::format("cannot read the bag: {}", error.what()));
+    }
+  }
+
+ private:
+  static std::string bytes_of(const rosbag::MessageInstance& instance) {
+    std::string bytes(instance.size(), '\0');
+    ros::serialization::OStream stream(reinterpret_cast<std::uint8_t*>(bytes.data()),
+                                       static_cast<std::uint32_t>(bytes.size()));
+    instance.write(stream);
+    return bytes;
+  }
+
+  rosbag::Bag bag_;
+  std::map<std::string, std::size_t> topic_by_name_;
+  // The messages of wanted topics (the library's index entries), for read.
+  std::vector<rosbag::MessageInstance> kept_;
+  mutable std::mutex mutex_;
+};
+
+}  // namespace
+
+std::unique_ptr<BagFile> open_ros1_bag(const std::filesystem::path& path) {
+  return std::make_unique<Ros1Bag>(path);
+}
+
+}  // namespace x2car::io

@@ -1,0 +1,258 @@
+#include "x2car/io/ros_point_cloud2.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <optional>
+#include <vector>
+
+#include "x2car/core/error.hpp"
+
+namespace x2car::io {
+namespace {
+
+// sensor_msgs/PointField datatypes.
+enum Datatype : std::uint8_t {
+  kInt8 = 1,
+  kUint8 = 2,
+  kInt16 = 3,
+  kUint16 = 4,
+  kInt32 = 5,
+  kUint32 = 6,
+  kFloat32 = 7,
+  kFloat64 = 8,
+};
+
+std::size_t size_of(std::uint8_t datatype) {
+  switch (datatype) {
+    case kInt8:
+    case kUint8:
+      return 1;
+    case kInt16:
+    case kUint16:
+      return 2;
+    case kInt32:
+    case kUint32:
+    case kFloat32:
+      return 4;
+    case kFloat64:
+      return 8;
+    default:
+      return 0;
+  }
+}
+
+bool is_float(std::uint8_t datatype) { return datatype == kFloat32 || datatype == kFloat64; }
+
+struct Field {
+  std::string name;
+  std::uint32_t offset = 0;
+  std::uint8_t datatype = 0;
+};
+
+template <typename Unsigned>
+Unsigned load(const char* at, bool big_endian) {
+  std::array<char, sizeof(Unsigned)> bytes;
+  std::memcpy(bytes.data(), at, bytes.size());
+  if (big_endian) std::ranges::reverse(bytes);
+  return std::bit_cast<Unsigned>(bytes);
+}
+
+// One field of one point as a double.
+double value_of(const char* point, const Field& field, bool big_endian) {
+  const char* at = point + field.offset;
+  switch (field.datatype) {
+    case kInt8:
+      return static_cast<std::int8_t>(*at);
+    case kUint8:
+      return static_cast<std::uint8_t>(*at);
+    case kInt16:
+      return std::bit_cast<std::int16_t>(load<std::uint16_t>(at, big_endian));
+    case kUint16:
+      return load<std::uint16_t>(at, big_endian);
+    case kInt32:
+      return std::bit_cast<std::int32_t>(load<std::uint32_t>(at, big_endian));
+    case kUint32:
+      return load<std::uint32_t>(at, big_endian);
+    case kFloat32:
+      return std::bit_cast<float>(load<std::uint32_t>(at, big_endian));
+    default:
+      return std::bit_cast<double>(load<std::uint64_t>(at, big_endian));
+  }
+}
+
+const Field* find_field(const std::vector<Field>& fields,
+                        std::initializer_list<std::string_view> names) {
+  for (const std::string_view name : names) {
+    for (const Field& field : fields) {
+      if (field.name == name) return &field;
+    }
+  }
+  return nullptr;
+}
+
+struct Layout {
+  std::uint32_t height = 0;
+  std::uint32_t width = 0;
+  std::vector<Field> fields;
+  bool big_endian = false;
+  std::uint32_t point_step = 0;
+  std::uint32_t row_step = 0;
+  std::string_view data;
+};
+
+Layout read_layout(RosMessageReader& message, const std::string& source) {
+  Layout layout;
+  layout.height = message.uint32("height");
+  layout.width = message.uint32("width");
+  const std::uint32_t field_count = message.uint32("fields");
+  if (field_count > 1024) {
+    throw InputError(source, 0, "fields", fmt::format("{} fields: not a point layout", field_count));
+  }
+  for (std::uint32_t i = 0; i < field_count; ++i) {
+    Field field;
+    field.name = message.string("fields.name");
+    field.offset = message.uint32("fields.offset");
+    field.datatype = message.uint8("fields.datatype");
+    const std::uint32_t count = message.uint32("fields.count");
+    if (size_of(field.datatype) == 0) {
+      throw InputError(source, 0, "fields." + field.name,
+                       fmt::format("datatype {} is not a PointField type (1 to 8)",
+                                   field.datatype));
+    }
+    (void)count;  // arrays (count > 1) are allowed for fields x2car does not use
+    layout.fields.push_back(std::move(field));
+  }
+  layout.big_endian = message.boolean("is_bigendian");
+  layout.point_step = message.uint32("point_step");
+  layout.row_step = message.uint32("row_step");
+  layout.data = message.byte_sequence("data");
+  message.boolean("is_dense");
+
+  for (const Field& field : layout.fields) {
+    if (static_cast<std::uint64_t>(field.offset) + size_of(field.datatype) > layout.point_step) {
+      throw InputError(source, 0, "fields." + field.name,
+                       fmt::format("offset {} + {} bytes lies past point_step {}", field.offset,
+                                   size_of(field.datatype), layout.point_step));
+    }
+  }
+  if (static_cast<std::uint64_t>(layout.width) * layout.point_step > layout.row_step) {
+    throw InputError(source, 0, "row_step",
+                     fmt::format("{} is less than width {} x point_step {}", layout.row_step,
+                                 layout.width, layout.point_step));
+  }
+  const std::uint64_t needed = static_cast<std::uint64_t>(layout.height) * layout.row_step;
+  if (needed > layout.data.size()) {
+    throw InputError(source, 0, "data",
+                     fmt::format("holds {} bytes; height {} x row_step {} needs {}",
+                                 layout.data.size(), layout.height, layout.row_step, needed));
+  }
+  return layout;
+}
+
+// How a time field's values become seconds since header.stamp.
+struct TimeScale {
+  double scale = 1.0;   // to seconds
+  double offset = 0.0;  // subtracted after scaling [s]
+};
+
+TimeScale time_scale(const Layout& layout, const Field& field, std::int64_t stamp_ns,
+                     const std::string& source) {
+  if (field.name != "timestamp") {
+    return {.scale = is_float(field.datatype) ? 1.0 : 1e-9, .offset = 0.0};
+  }
+  // Absolute stamps: the unit that puts the first finite value nearest the header's stamp.
+  const double stamp_s = static_cast<double>(stamp_ns) * 1e-9;
+  for (std::uint32_t row = 0; row < layout.height; ++row) {
+    for (std::uint32_t column = 0; column < layout.width; ++column) {
+      const char* point = layout.data.data() + static_cast<std::size_t>(row) * layout.row_step +
+                          static_cast<std::size_t>(column) * layout.point_step;
+      const double value = value_of(point, field, layout.big_endian);
+      if (!std::isfinite(value)) continue;
+      constexpr double kWithin = 60.0;  // [s]
+      const double as_seconds = std::abs(value - stamp_s);
+      const double as_nanoseconds = std::abs(value * 1e-9 - stamp_s);
+      if (std::min(as_seconds, as_nanoseconds) > kWithin) {
+        throw InputError(source, 0, "fields.timestamp",
+                         fmt::format("{} is more than {} s from header.stamp {} s, in seconds "
+                                     "and in nanoseconds",
+                                     value, kWithin, stamp_s));
+      }
+      return as_seconds <= as_nanoseconds ? TimeScale{.scale = 1.0, .offset = stamp_s}
+                                          : TimeScale{.scale = 1e-9, .offset = stamp_s};
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
+RosHeader read_point_cloud2_header(std::string_view bytes, RosEncoding encoding,
+                                   const std::string& source) {
+  RosMessageReader message(bytes, encoding, source);
+  return message.header();
+}
+
+StampedPointCloud decode_point_cloud2(std::string_view bytes, RosEncoding encoding,
+                                      const std::string& source) {
+  RosMessageReader message(bytes, encoding, source);
+  StampedPointCloud out;
+  out.header = message.header();
+  const Layout layout = read_layout(message, source);
+  const Field* x = find_field(layout.fields, {"x"});
+  const Field* y = find_field(layout.fields, {"y"});
+  const Field* z = find_field(layout.fields, {"z"});
+  for (const auto& [field, name] : {std::pair{x, "x"}, std::pair{y, "y"}, std::pair{z, "z"}}) {
+    if (field == nullptr) throw InputError(source, 0, "fields", fmt::format("no field {}", name));
+    if (!is_float(field->datatype)) {
+      throw InputError(source, 0, std::string("fields.") + name,
+                       "is not FLOAT32 or FLOAT64 (datatype 7 or 8)");
+    }
+  }
+  const Field* intensity = find_field(layout.fields, {"intensity", "i", "reflectivity"});
+  const Field* ring = find_field(layout.fields, {"ring", "line", "laser_id", "channel"});
+  if (ring != nullptr && is_float(ring->datatype)) {
+    throw InputError(source, 0, "fields." + ring->name, "a beam index of a float type");
+  }
+  const Field* time = find_field(layout.fields, {"t", "time", "offset_time", "timestamp"});
+  const TimeScale scale =
+      time == nullptr ? TimeScale{} : time_scale(layout, *time, out.header.stamp_ns, source);
+
+  PointCloud& cloud = out.cloud;
+  cloud.has_intensity = intensity != nullptr;
+  cloud.has_ring = ring != nullptr;
+  cloud.has_time = time != nullptr;
+  cloud.points.resize(static_cast<std::size_t>(layout.height) * layout.width);
+  const bool big = layout.big_endian;
+  std::size_t index = 0;
+  for (std::uint32_t row = 0; row < layout.height; ++row) {
+    const char* row_start = layout.data.data() + static_cast<std::size_t>(row) * layout.row_step;
+    for (std::uint32_t column = 0; column < layout.width; ++column, ++index) {
+      const char* point = row_start + static_cast<std::size_t>(column) * layout.point_step;
+      LidarPoint& p = cloud.points[index];
+      p.x = static_cast<float>(value_of(point, *x, big));
+      p.y = static_cast<float>(value_of(point, *y, big));
+      p.z = static_cast<float>(value_of(point, *z, big));
+      if (intensity != nullptr) p.intensity = static_cast<float>(value_of(point, *intensity, big));
+      if (ring != nullptr) {
+        const double beam = value_of(point, *ring, big);
+        if (beam < 0.0 || beam > std::numeric_limits<std::uint16_t>::max()) {
+          throw InputError(source, 0, "fields." + ring->name,
+                           fmt::format("point {}: beam {} is not a uint16", index, beam));
+        }
+        p.ring = static_cast<std::uint16_t>(beam);
+      }
+      if (time != nullptr) {
+        p.t = static_cast<float>(value_of(point, *time, big) * scale.scale - scale.offset);
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace x2car::io

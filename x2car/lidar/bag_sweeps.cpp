@@ -1,0 +1,118 @@
+#include "x2car/lidar/bag_sweeps.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cstdlib>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "x2car/core/error.hpp"
+#include "x2car/io/bag.hpp"
+#include "x2car/io/ros_point_cloud2.hpp"
+#include "x2car/io/text_lines.hpp"
+
+namespace x2car::lidar {
+namespace {
+
+constexpr const char* kPointCloud2 = "sensor_msgs/PointCloud2";
+
+struct SweepMessage {
+  std::int64_t stamp_ns = 0;
+  io::BagMessageRef ref;
+  std::size_t count = 0;  // the message's number on its topic, for errors
+};
+
+// Seconds of a nanosecond stamp, rounded once from its decimal value: the same double as a PCD
+// file named by that time ("000012.300000.pcd" and 12 s + 300000000 ns give one value).
+double seconds_of(std::int64_t stamp_ns) {
+  const std::string text = fmt::format("{}{}.{:09}", stamp_ns < 0 ? "-" : "",
+                                       std::abs(stamp_ns / 1'000'000'000LL),
+                                       std::abs(stamp_ns % 1'000'000'000LL));
+  double seconds = 0.0;
+  std::from_chars(text.data(), text.data() + text.size(), seconds);
+  return seconds;
+}
+
+}  // namespace
+
+BagSweeps sweeps_from_bag(const std::filesystem::path& path, const BagSweepOptions& options) {
+  const std::string file = path.string();
+  std::unique_ptr<io::BagFile> bag =
+      io::open_bag(path, {.allow_truncated = options.allow_truncated});
+  const auto chosen_topic = [&](const io::BagTopic& topic) {
+    return options.topic ? topic.name == *options.topic : io::ros_type_is(topic.type, kPointCloud2);
+  };
+  // Per topic index: its sweeps.
+  std::vector<std::vector<SweepMessage>> messages;
+  std::vector<std::size_t> counts;
+  std::string frame_id;
+  bag->scan(chosen_topic, [&](const io::BagMessage& message) {
+    messages.resize(bag->topics().size());
+    counts.resize(bag->topics().size(), 0);
+    const std::size_t count = ++counts[message.topic];
+    const io::BagTopic& topic = bag->topics()[message.topic];
+    if (!chosen_topic(topic) || !io::ros_type_is(topic.type, kPointCloud2)) return;
+    const std::string source = fmt::format("{} ({} message {})", file, topic.name, count);
+    const io::RosHeader header = io::read_point_cloud2_header(
+        message.data, io::ros_encoding_of(topic, path), source);
+    if (messages[message.topic].empty()) frame_id = header.frame_id;
+    messages[message.topic].push_back({.stamp_ns = header.stamp_ns, .ref = message.ref,
+                                       .count = count});
+  });
+
+  std::vector<std::string> cloud_topics;
+  std::optional<std::size_t> chosen;
+  for (std::size_t i = 0; i < bag->topics().size(); ++i) {
+    const io::BagTopic& topic = bag->topics()[i];
+    if (io::ros_type_is(topic.type, kPointCloud2)) cloud_topics.push_back(topic.name);
+    if (chosen_topic(topic) && !chosen) chosen = i;
+  }
+  if (options.topic && (!chosen || !io::ros_type_is(bag->topics()[*chosen].type, kPointCloud2))) {
+    throw InputError(file, 0, *options.topic,
+                     !chosen ? fmt::format("no such topic; the PointCloud2 topics: {}",
+                                           cloud_topics.empty() ? "none" : io::join(cloud_topics))
+                             : fmt::format("is {}, not {}", bag->topics()[*chosen].type,
+                                           kPointCloud2));
+  }
+  if (!options.topic && cloud_topics.size() != 1) {
+    throw InputError(file, cloud_topics.empty()
+                               ? fmt::format("holds no {} topic for LiDAR sweeps", kPointCloud2)
+                               : fmt::format("holds {} PointCloud2 topics ({}): pick one with "
+                                             "--topic",
+                                             cloud_topics.size(), io::join(cloud_topics)));
+  }
+  const io::BagTopic topic = bag->topics()[*chosen];
+  std::vector<SweepMessage> sweeps =
+      *chosen < messages.size() ? std::move(messages[*chosen]) : std::vector<SweepMessage>{};
+  if (sweeps.empty()) throw InputError(file, 0, topic.name, "the topic holds no messages");
+  std::ranges::stable_sort(sweeps, {}, &SweepMessage::stamp_ns);
+
+  BagSweeps out;
+  out.topic = topic.name;
+  out.frame_id = frame_id;
+  for (std::size_t i = 0; i < sweeps.size(); ++i) {
+    if (i > 0 && sweeps[i].stamp_ns == sweeps[i - 1].stamp_ns) {
+      throw InputError(file, 0, topic.name,
+                       fmt::format("messages {} and {} have one header.stamp ({} s)",
+                                   sweeps[i - 1].count, sweeps[i].count,
+                                   seconds_of(sweeps[i].stamp_ns)));
+    }
+    out.source.times.push_back(seconds_of(sweeps[i].stamp_ns));
+  }
+  const io::RosEncoding encoding = io::ros_encoding_of(topic, path);
+  // Shared: the source may be copied, and outlives this call.
+  out.source.read = [bag = std::shared_ptr<const io::BagFile>(std::move(bag)), sweeps = std::move(sweeps), encoding, file,
+                     name = topic.name](std::size_t index) {
+    const SweepMessage& sweep = sweeps.at(index);
+    const std::string bytes = bag->read(sweep.ref);
+    return io::decode_point_cloud2(bytes, encoding,
+                                   fmt::format("{} ({} message {})", file, name, sweep.count))
+        .cloud;
+  };
+  return out;
+}
+
+}  // namespace x2car::lidar
