@@ -166,28 +166,30 @@ TimeScale time_scale(const Layout& layout, const Field& field, std::int64_t stam
   if (field.name != "timestamp") {
     return {.scale = is_float(field.datatype) ? 1.0 : 1e-9, .offset = 0.0};
   }
-  // Absolute stamps: the unit that puts the first finite value nearest the header's stamp.
+  // Absolute stamps: seconds when every value lies within a minute of the header's stamp, else
+  // nanoseconds when they do so read (near a clock's zero both may: a sweep's nanoseconds span
+  // millions, so seconds are the reading that fits then).
+  constexpr double kWithin = 60.0;  // [s]
   const double stamp_s = static_cast<double>(stamp_ns) * 1e-9;
+  double farthest_as_seconds = 0.0;
+  double farthest_as_nanoseconds = 0.0;
   for (std::uint32_t row = 0; row < layout.height; ++row) {
     for (std::uint32_t column = 0; column < layout.width; ++column) {
       const char* point = layout.data.data() + static_cast<std::size_t>(row) * layout.row_step +
                           static_cast<std::size_t>(column) * layout.point_step;
       const double value = value_of(point, field, layout.big_endian);
       if (!std::isfinite(value)) continue;
-      constexpr double kWithin = 60.0;  // [s]
-      const double as_seconds = std::abs(value - stamp_s);
-      const double as_nanoseconds = std::abs(value * 1e-9 - stamp_s);
-      if (std::min(as_seconds, as_nanoseconds) > kWithin) {
-        throw InputError(source, 0, "fields.timestamp",
-                         fmt::format("{} is more than {} s from header.stamp {} s, in seconds "
-                                     "and in nanoseconds",
-                                     value, kWithin, stamp_s));
-      }
-      return as_seconds <= as_nanoseconds ? TimeScale{.scale = 1.0, .offset = stamp_s}
-                                          : TimeScale{.scale = 1e-9, .offset = stamp_s};
+      farthest_as_seconds = std::max(farthest_as_seconds, std::abs(value - stamp_s));
+      farthest_as_nanoseconds =
+          std::max(farthest_as_nanoseconds, std::abs(value * 1e-9 - stamp_s));
     }
   }
-  return {};
+  if (farthest_as_seconds <= kWithin) return {.scale = 1.0, .offset = stamp_s};
+  if (farthest_as_nanoseconds <= kWithin) return {.scale = 1e-9, .offset = stamp_s};
+  throw InputError(source, 0, "fields.timestamp",
+                   fmt::format("values lie more than {} s from header.stamp {} s, read as seconds "
+                               "and as nanoseconds",
+                               kWithin, stamp_s));
 }
 
 }  // namespace

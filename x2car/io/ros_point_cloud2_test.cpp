@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -153,6 +154,21 @@ TEST(DecodePointCloud2, TakesAbsoluteTimestampsInSecondsOrNanoseconds) {
     EXPECT_NEAR(cloud.points[0].t, 0.04, 1e-5) << scale;
     EXPECT_TRUE(cloud.has_ring);
   }
+}
+
+// Near a clock's zero (a simulation's), nanoseconds still read as nanoseconds: one point at the
+// stamp itself, another 50 ms later.
+TEST(DecodePointCloud2, TellsNanosecondsFromSecondsNearAClocksZero) {
+  std::string data(2 * 20, '\0');
+  put_at<double>(data, 12, 0.0);
+  put_at<double>(data, 32, 5e7);
+  const std::string bytes =
+      CloudBytes(RosEncoding::kCdr)
+          .message(0, 1, 2, {{"x", 0, 7}, {"y", 4, 7}, {"z", 8, 7}, {"timestamp", 12, 8}}, 20,
+                   data);
+  const PointCloud cloud = decode_point_cloud2(bytes, RosEncoding::kCdr, "m").cloud;
+  EXPECT_FLOAT_EQ(cloud.points[0].t, 0.0f);
+  EXPECT_FLOAT_EQ(cloud.points[1].t, 0.05f);
 }
 
 TEST(DecodePointCloud2, ReadsFloat64CoordinatesAndBigEndianData) {

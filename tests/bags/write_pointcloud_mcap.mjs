@@ -1,0 +1,86 @@
+// A simulated drive's lidar sweeps (the binary PCD files of drive/lidar/, sorted by name) as an
+// MCAP file of sensor_msgs/msg/PointCloud2 messages in ROS 2 CDR, one a sweep, written by
+// independent implementations: @foxglove/rosmsg2-serialization (with ROS 2 Jazzy's definitions
+// from @foxglove/rosmsg-msgs-common) and @mcap/core; zstd chunks unless --compression says lz4
+// (lz4js) or none. header.stamp is the file name's time (000012.300000.pcd: 12 s 300000000 ns),
+// and so are the log and publish times; frame "lidar". --layout picks the point fields of a driver
+// (x2car, the default: the PCD's bytes as they are; velodyne, ouster, hesai, livox, f64, no-time:
+// see pointcloud2.mjs). --ins adds the drive's ins.csv as nav_msgs/msg/Odometry on /odom (as
+// write_odometry_mcap.mjs writes it), the messages of both topics in time order.
+//   node write_pointcloud_mcap.mjs PCD_DIR OUT.mcap [--layout NAME] [--compression zstd|lz4|none]
+//                                  [--topic T] [--ins INS_CSV]
+import { McapWriter } from '@mcap/core';
+import { MessageWriter } from '@foxglove/rosmsg2-serialization';
+import * as zstd from '@foxglove/wasm-zstd';
+import lz4 from 'lz4js';
+import fs from 'node:fs';
+import { definitionsOf, readInsCsv, odometryMessage } from './ins_odometry.mjs';
+import { layouts, lidarSweeps, pointCloudMessage } from './pointcloud2.mjs';
+
+const usage = 'usage: node write_pointcloud_mcap.mjs PCD_DIR OUT.mcap [--layout NAME] ' +
+              '[--compression zstd|lz4|none] [--topic T] [--ins INS_CSV]';
+const options = { layout: 'x2car', compression: 'zstd', topic: '/points', ins: undefined };
+const positional = [];
+const args = process.argv.slice(2);
+for (let i = 0; i < args.length; ++i) {
+  const key = args[i].startsWith('--') ? args[i].slice(2) : undefined;
+  if (key === undefined) positional.push(args[i]);
+  else if (Object.hasOwn(options, key) && i + 1 < args.length) options[key] = args[++i];
+  else { console.error(usage); process.exit(2); }
+}
+const [pcdDir, outPath] = positional;
+if (positional.length !== 2 || !Object.hasOwn(layouts, options.layout) ||
+    !['zstd', 'lz4', 'none'].includes(options.compression)) {
+  console.error(usage + '\n  layouts: ' + Object.keys(layouts).join(', '));
+  process.exit(2);
+}
+await zstd.isLoaded;
+
+// Written to the file as it goes: a drive's sweeps are a megabyte each.
+class FileSink {
+  constructor(file) { this.fd = fs.openSync(file, 'w'); this.size = 0n; }
+  position() { return this.size; }
+  async write(bytes) { fs.writeSync(this.fd, bytes); this.size += BigInt(bytes.byteLength); }
+  close() { fs.closeSync(this.fd); }
+}
+const compressors = {
+  zstd: (data) => ({ compression: 'zstd', compressedData: zstd.compress(data, 3) }),
+  lz4: (data) => ({ compression: 'lz4', compressedData: lz4.compress(data) }),
+  none: undefined,  // chunks stored as they are
+};
+const sink = new FileSink(outPath);
+const mcap = new McapWriter({ writable: sink, useChunks: true, chunkSize: 1024 * 1024,
+                              compressChunk: compressors[options.compression] });
+await mcap.start({ profile: 'ros2', library: 'x2car fixtures (@mcap/core, rosmsg2-serialization)' });
+async function channel(topic, type) {
+  const schemaId = await mcap.registerSchema({
+    name: type, encoding: 'ros2msg', data: new TextEncoder().encode('# ' + type + ' (ROS 2 Jazzy)') });
+  return mcap.registerChannel({ topic, schemaId, messageEncoding: 'cdr', metadata: new Map() });
+}
+
+// Every message as { stampNs, channelId, serialize }, serialized only when written; in time order
+// (a stable sort: at one stamp, the odometry first).
+const messages = [];
+const points = await channel(options.topic, 'sensor_msgs/msg/PointCloud2');
+if (options.ins) {
+  const odomWriter = new MessageWriter(definitionsOf('nav_msgs/Odometry'));
+  const odom = await channel('/odom', 'nav_msgs/msg/Odometry');
+  for (const sample of readInsCsv(options.ins)) {
+    messages.push({ stampNs: sample.stampNs, channelId: odom,
+                    serialize: () => odomWriter.writeMessage(odometryMessage(sample)) });
+  }
+}
+const cloudWriter = new MessageWriter(definitionsOf('sensor_msgs/PointCloud2'));
+for (const sweep of lidarSweeps(pcdDir)) {
+  const serialize = () => cloudWriter.writeMessage(pointCloudMessage(sweep, options.layout));
+  messages.push({ stampNs: sweep.stampNs, channelId: points, serialize });
+}
+messages.sort((a, b) => (a.stampNs < b.stampNs ? -1 : a.stampNs > b.stampNs ? 1 : 0));
+const sequence = new Map();
+for (const m of messages) {
+  sequence.set(m.channelId, (sequence.get(m.channelId) ?? 0) + 1);
+  await mcap.addMessage({ channelId: m.channelId, sequence: sequence.get(m.channelId),
+                          logTime: m.stampNs, publishTime: m.stampNs, data: m.serialize() });
+}
+await mcap.end();
+sink.close();
