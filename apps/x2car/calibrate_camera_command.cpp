@@ -11,11 +11,13 @@
 #include "apps/x2car/number_checks.hpp"
 #include "apps/x2car/progress_bar.hpp"
 #include "apps/x2car/subcommand.hpp"
+#include "x2car/camera/bag_frames.hpp"
 #include "x2car/camera/camera_calibration.hpp"
 #include "x2car/camera/camera_frames.hpp"
 #include "x2car/camera/video_frames.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/io/autoware_yaml.hpp"
+#include "x2car/io/bag.hpp"
 #include "x2car/io/image_folder.hpp"
 #include "x2car/io/text_lines.hpp"
 #include "x2car/io/urdf_joint.hpp"
@@ -37,6 +39,9 @@ struct CalibrateCameraArguments {
   std::optional<int> window_frames;
   std::optional<double> max_window_std_deg;
   bool skip_bad_images = false;
+  std::string topic;      // a bag's image topic
+  std::string ins_topic;  // the --ins bag's pose topic
+  bool allow_truncated = false;
   OutputArguments output;
 };
 
@@ -84,13 +89,30 @@ void write_optical_frame(const CalibrationResult& result, const OutputArguments&
 int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
   check_output_arguments(arguments.output,
                          {{{"--input", arguments.input_path}, {"--ins", arguments.ins_path}}});
-  const core::CameraIntrinsics intrinsics = find_camera_intrinsics(
-      arguments.input_path,
-      {arguments.intrinsics_path, arguments.camera_index, arguments.unrectified});
   camera::CameraCalibrationOptions options = calibration_options(arguments);
   io::ImageFolder folder;  // outlives the frames that read from it
   camera::CameraFrameSource frames;
-  if (camera::is_video_file(arguments.input_path)) {
+  std::optional<core::CameraIntrinsics> bag_intrinsics;
+  const bool from_bag = io::bag_container_of(arguments.input_path).has_value();
+  if (!from_bag && !arguments.topic.empty()) {
+    throw InputError(arguments.input_path, 0, "--topic", "is for a bag; this is not one");
+  }
+  if (from_bag) {
+    camera::BagFrameOptions bag_options;
+    if (!arguments.topic.empty()) bag_options.topic = arguments.topic;
+    bag_options.allow_truncated = arguments.allow_truncated;
+    camera::BagFrames bag = camera::camera_frames_from_bag(arguments.input_path, bag_options);
+    spdlog::info("found {} frames on {} in {} ({:.1f} s){}", bag.source.times.size(), bag.topic,
+                 arguments.input_path, bag.source.times.back() - bag.source.times.front(),
+                 bag.intrinsics ? fmt::format("; intrinsics from {}", bag.info_topic) : "");
+    frames = std::move(bag.source);
+    bag_intrinsics = bag.intrinsics;
+    if (!bag_intrinsics && arguments.intrinsics_path.empty()) {
+      throw InputError(arguments.input_path, 0, bag.topic,
+                       "the bag has no sensor_msgs/CameraInfo topic in this topic's namespace; "
+                       "give --intrinsics");
+    }
+  } else if (camera::is_video_file(arguments.input_path)) {
     camera::VideoFrameOptions video;
     if (!arguments.timestamps_path.empty()) video.timestamps = arguments.timestamps_path;
     video.frame_rate_hz = arguments.frame_rate_hz;
@@ -107,8 +129,16 @@ int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
                  folder.ignored_files);
     frames = camera::camera_frames_from(folder);
   }
-  if (!arguments.ins_path.empty())
-    frames.motion = camera_motion_from_log(arguments.ins_path, frames);
+  // --intrinsics wins over the bag's CameraInfo.
+  const core::CameraIntrinsics intrinsics =
+      bag_intrinsics && arguments.intrinsics_path.empty()
+          ? *bag_intrinsics
+          : find_camera_intrinsics(arguments.input_path, {arguments.intrinsics_path,
+                                                          arguments.camera_index,
+                                                          arguments.unrectified});
+  if (!arguments.ins_path.empty()) {
+    frames.motion = camera_motion_from_log(arguments.ins_path, frames, arguments.ins_topic);
+  }
   ProgressBar progress("frames", spdlog::should_log(spdlog::level::info));
   options.progress = progress.callback();
   const CalibrationResult result = camera::calibrate_camera(frames, intrinsics, options);
@@ -132,8 +162,9 @@ RunCommand setup_calibrate_camera_command(CLI::App& command) {
                   "Folder of images: a drive folder holding camera/images/ and "
                   "camera/timestamps.txt, a KITTI raw drive (image_0X/data/), or images with a "
                   "timestamps.txt or named by their times; or a video file (mp4, avi, mkv, mov, "
-                  "webm, m4v)")
-      ->type_name("DIR|VIDEO")
+                  "webm, m4v); or a bag (MCAP, ROS 1 .bag, ROS 2 bag folder) with a "
+                  "sensor_msgs/Image or CompressedImage topic (intrinsics from its CameraInfo)")
+      ->type_name("DIR|VIDEO|BAG")
       ->required();
   command.add_option("--timestamps", arguments->timestamps_path,
                      "A video's frame times, one per line (seconds or UTC date-times); default: "
@@ -180,6 +211,12 @@ RunCommand setup_calibrate_camera_command(CLI::App& command) {
   command.add_flag("--skip-bad-images", arguments->skip_bad_images,
                    "Skip images that cannot be decoded instead of stopping; they are counted in "
                    "the result");
+  command.add_option("--topic", arguments->topic,
+                     "A bag's Image or CompressedImage topic (default: its only one)");
+  command.add_option("--ins-topic", arguments->ins_topic,
+                     "The --ins bag's Odometry or PoseStamped topic (default: its only one)");
+  command.add_flag("--allow-truncated", arguments->allow_truncated,
+                   "Read an MCAP file cut short up to where it ends, instead of an error");
   add_output_options(command, arguments->output);
   command.footer(
       "Each frame's vanishing point of the road and horizon give the rotation; frames are kept "
@@ -187,7 +224,9 @@ RunCommand setup_calibrate_camera_command(CLI::App& command) {
       "--yaml and --urdf hold camera_link and the optical frame. See docs/methods.md.\n"
       "\n"
       "Example:\n"
-      "  x2car calibrate camera --input drive --out camera.json");
+      "  x2car calibrate camera --input drive --out camera.json\n"
+      "  x2car calibrate camera --input run.mcap --topic /camera/image_raw/compressed --out "
+      "camera.json");
   return [arguments] { return run_calibrate_camera(*arguments); };
 }
 

@@ -27,6 +27,9 @@ struct CalibrateRadarArguments {
   std::vector<double> lever_arm_m;  // x y of the radar on the car [m], optional
   std::optional<double> min_speed_mps;
   std::optional<double> nominal_yaw_deg;  // the mounting as designed [deg], optional
+  std::string topic;                      // a bag's radar topic
+  std::string ins_topic;                  // the GNSS/INS log's pose topic, when it is a bag
+  bool allow_truncated = false;
   OutputArguments output;
 };
 
@@ -55,6 +58,8 @@ io::RadarReadOptions read_options(const CalibrateRadarArguments& arguments) {
   io::RadarReadOptions options;
   if (arguments.layout != "auto") options.layout = io::radar_layout_from_string(arguments.layout);
   options.angle_unit = io::angle_unit_from_string(arguments.angle_unit);
+  if (!arguments.topic.empty()) options.topic = arguments.topic;
+  options.allow_truncated = arguments.allow_truncated;
   return options;
 }
 
@@ -63,7 +68,9 @@ int run_calibrate_radar(const CalibrateRadarArguments& arguments) {
                          {{{"--input", arguments.input_path}, {"--ins", arguments.ins_path}}});
   const io::RadarReadOptions radar_options = read_options(arguments);
   const io::RadarLog radar_log = io::read_radar(arguments.input_path, radar_options);
-  const io::InsLog ins_log = io::read_ins_log(arguments.ins_path);
+  io::InsReadOptions ins_options;
+  if (!arguments.ins_topic.empty()) ins_options.topic = arguments.ins_topic;
+  const io::InsLog ins_log = io::read_ins_log(arguments.ins_path, ins_options);
   for (const std::string& notice : radar_log.notices) spdlog::warn("{}", notice);
   for (const std::string& notice : ins_log.notices) spdlog::warn("{}", notice);
   spdlog::info("read {} radar detections ({}) from {} and {} GNSS/INS samples from {}",
@@ -84,19 +91,22 @@ RunCommand setup_calibrate_radar_command(CLI::App& command) {
   auto arguments = std::make_shared<CalibrateRadarArguments>();
   command
       .add_option("-i,--input", arguments->input_path,
-                  "Radar folder: scan files (conti, delphi) or detections.csv (generic)")
-      ->type_name("DIR")
+                  "Radar folder: scan files (conti, delphi) or detections.csv (generic); or a bag "
+                  "(MCAP, ROS 1 .bag, ROS 2 bag folder) with a radar_msgs/RadarScan or "
+                  "RadarTracks topic")
+      ->type_name("DIR|BAG")
       ->required();
   command
       .add_option("--ins", arguments->ins_path,
-                  "GNSS/INS log: novatel_enu.csv, a generic CSV with a header, or a KITTI OXTS "
-                  "folder")
-      ->type_name("FILE")
+                  "GNSS/INS log: novatel_enu.csv, a generic CSV with a header, a KITTI OXTS "
+                  "folder, or a bag with a nav_msgs/Odometry or PoseStamped topic (the radar's "
+                  "bag itself, for one)")
+      ->type_name("PATH")
       ->required();
   command
       .add_option("--layout", arguments->layout,
-                  "Layout of the radar files; auto tells conti, delphi and generic apart from the "
-                  "files")
+                  "Layout of the radar files; auto tells conti, delphi, generic and bag apart from "
+                  "the files")
       ->type_name("NAME")
       ->check(CLI::IsMember(radar_layout_choices()))
       ->capture_default_str();
@@ -133,6 +143,12 @@ RunCommand setup_calibrate_radar_command(CLI::App& command) {
                               deg_from_rad(radar::RadarVelocityMethodOptions{}.search_half_range)))
       ->type_name("DEG")
       ->check(CLI::Range(-360.0, 360.0));
+  command.add_option("--topic", arguments->topic,
+                     "A bag's RadarScan or RadarTracks topic (default: its only one)");
+  command.add_option("--ins-topic", arguments->ins_topic,
+                     "The --ins bag's Odometry or PoseStamped topic (default: its only one)");
+  command.add_flag("--allow-truncated", arguments->allow_truncated,
+                   "Read an MCAP file cut short up to where it ends, instead of an error");
   add_output_options(command, arguments->output);
   command.footer(
       "Roll and pitch are not observable by a 2-D radar and are reported as null. The yaw is "
@@ -145,6 +161,8 @@ RunCommand setup_calibrate_radar_command(CLI::App& command) {
       "\n"
       "Example:\n"
       "  x2car calibrate radar --input drive/radar --ins drive/ins/novatel_enu.csv --out "
+      "radar.json\n"
+      "  x2car calibrate radar --input run.mcap --topic /radar_front/scan --ins run.mcap --out "
       "radar.json");
   return [arguments] { return run_calibrate_radar(*arguments); };
 }

@@ -50,8 +50,10 @@ core::CameraIntrinsics find_camera_intrinsics(const std::string& input_path,
 }
 
 std::vector<std::optional<camera::VehicleMotion>> camera_motion_from_log(
-    const std::string& path, const camera::CameraFrameSource& frames) {
-  const io::InsLog log = io::read_ins_log(path);
+    const std::string& path, const camera::CameraFrameSource& frames, const std::string& topic) {
+  io::InsReadOptions read_options;
+  if (!topic.empty()) read_options.topic = topic;
+  const io::InsLog log = io::read_ins_log(path, read_options);
   camera::InsMotionOptions options;
   const bool unix_frames = !frames.times.empty() && frames.times.front() > 1e8;
   if (unix_frames && log.start_unix_time) options.ins_to_frame_offset_s = *log.start_unix_time;

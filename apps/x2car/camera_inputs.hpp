@@ -26,7 +26,9 @@ core::CameraIntrinsics find_camera_intrinsics(const std::string& input_path,
 // The car's speed and yaw rate at each frame from a GNSS/INS log. Frames stamped in Unix time
 // (KITTI raw, the simulator) meet a log with absolute times on the Unix clock; otherwise both are
 // taken to share one clock. InputError naming the log when it covers none of the frames.
+// `topic`: a bag's pose topic (empty: its only one).
 std::vector<std::optional<camera::VehicleMotion>> camera_motion_from_log(
-    const std::string& path, const camera::CameraFrameSource& frames);
+    const std::string& path, const camera::CameraFrameSource& frames,
+    const std::string& topic = {});
 
 }  // namespace x2car::cli

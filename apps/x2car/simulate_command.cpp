@@ -254,7 +254,7 @@ RunCommand setup_simulate_command(CLI::App& command) {
                   "Radar as conti (ARS408-like scan files), delphi (ESR-like scan files, 20 Hz) or "
                   "generic (detections.csv)")
       ->type_name("NAME")
-      ->check(CLI::IsMember(io::radar_layout_names()))
+      ->check(CLI::IsMember({"conti", "delphi", "generic"}))
       ->capture_default_str();
   command
       .add_option("--camera-format", arguments->camera_format,

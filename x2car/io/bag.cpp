@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <charconv>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -93,6 +95,15 @@ const char* bag_container_name(BagContainer container) {
       return "ROS 2 bag";
   }
   return "bag";
+}
+
+double stamp_seconds(std::int64_t stamp_ns) {
+  const std::string text = fmt::format("{}{}.{:09}", stamp_ns < 0 ? "-" : "",
+                                       std::abs(stamp_ns / 1'000'000'000LL),
+                                       std::abs(stamp_ns % 1'000'000'000LL));
+  double seconds = 0.0;
+  std::from_chars(text.data(), text.data() + text.size(), seconds);
+  return seconds;
 }
 
 bool ros_type_is(std::string_view type, std::string_view package_and_name) {

@@ -91,6 +91,10 @@ class BagFile {
   std::vector<BagTopic> topics_;
 };
 
+// A header stamp [ns] as seconds, rounded once from its decimal value: the same double as a file
+// named by that time ("000012.300000.pcd", 12 s + 300000000 ns) or a timestamps file's line.
+double stamp_seconds(std::int64_t stamp_ns);
+
 // The container of `path`, by its first bytes or (a folder) its metadata.yaml; unset when it is
 // none of them.
 std::optional<BagContainer> bag_container_of(const std::filesystem::path& path);

@@ -122,43 +122,21 @@ class Reader {
     if (!node.IsScalar()) {
       throw InputError(source_, yaml_line(node), "distortion_model", "expected a name");
     }
-    const std::string name = node.Scalar();
-    if (name == "rational_polynomial") {
-      throw InputError(source_, yaml_line(node), "distortion_model",
-                       "rational_polynomial is not supported; use plumb_bob or equidistant");
-    }
-    if (name == "fisheye") return DistortionModel::kEquidistant;  // OpenCV's name for it
     try {
-      const DistortionModel model = core::distortion_model_from_string(name);
-      if (model != DistortionModel::kNone) return model;
-    } catch (const std::invalid_argument&) {
+      return camera_info_distortion_model(node.Scalar());
+    } catch (const std::invalid_argument& error) {
+      throw InputError(source_, yaml_line(node), "distortion_model", error.what());
     }
-    throw InputError(
-        source_, yaml_line(node), "distortion_model",
-        fmt::format("unknown distortion model '{}'; expected plumb_bob or equidistant", name));
   }
 
-  // The coefficients for `model`; plumb_bob takes 4 (k3 = 0) or 5, and no or all-zero
-  // coefficients mean no distortion.
   void distortion(CameraIntrinsics& c, DistortionModel model) const {
     std::vector<double> d = matrix("distortion_coefficients", -1, -1);
-    const std::size_t line = yaml_line(root_["distortion_coefficients"]["data"]);
-    if (model == DistortionModel::kPlumbBob) {
-      if (d.size() == 4) d.push_back(0.0);
-      if (std::all_of(d.begin(), d.end(), [](double v) { return v == 0.0; })) {
-        c.distortion_model = DistortionModel::kNone;
-        c.distortion_coefficients.clear();
-        return;
-      }
+    try {
+      set_camera_info_distortion(c, model, std::move(d));
+    } catch (const std::invalid_argument& error) {
+      throw InputError(source_, yaml_line(root_["distortion_coefficients"]["data"]),
+                       "distortion_coefficients", error.what());
     }
-    const std::size_t expected = core::distortion_coefficient_count(model);
-    if (d.size() != expected) {
-      throw InputError(source_, line, "distortion_coefficients",
-                       fmt::format("the {} model has {} coefficients, found {}",
-                                   core::to_string(model), expected, d.size()));
-    }
-    c.distortion_model = model;
-    c.distortion_coefficients = std::move(d);
   }
 
   void check_ros_keys() const {
@@ -209,6 +187,40 @@ CameraIntrinsics read_opencv(const Reader& reader) {
 }
 
 }  // namespace
+
+DistortionModel camera_info_distortion_model(std::string_view name) {
+  if (name == "rational_polynomial") {
+    throw std::invalid_argument(
+        "rational_polynomial is not supported; use plumb_bob or equidistant");
+  }
+  if (name == "fisheye") return DistortionModel::kEquidistant;  // OpenCV's name for it
+  try {
+    const DistortionModel model = core::distortion_model_from_string(name);
+    if (model != DistortionModel::kNone) return model;
+  } catch (const std::invalid_argument&) {
+  }
+  throw std::invalid_argument(
+      fmt::format("unknown distortion model '{}'; expected plumb_bob or equidistant", name));
+}
+
+void set_camera_info_distortion(CameraIntrinsics& c, DistortionModel model,
+                                std::vector<double> d) {
+  if (model == DistortionModel::kPlumbBob) {
+    if (d.size() == 4) d.push_back(0.0);
+    if (std::all_of(d.begin(), d.end(), [](double v) { return v == 0.0; })) {
+      c.distortion_model = DistortionModel::kNone;
+      c.distortion_coefficients.clear();
+      return;
+    }
+  }
+  const std::size_t expected = core::distortion_coefficient_count(model);
+  if (d.size() != expected) {
+    throw std::invalid_argument(fmt::format("the {} model has {} coefficients, found {}",
+                                            core::to_string(model), expected, d.size()));
+  }
+  c.distortion_model = model;
+  c.distortion_coefficients = std::move(d);
+}
 
 std::string format_camera_info_yaml(const CameraIntrinsics& c, std::string_view camera_name) {
   c.Check();

@@ -29,6 +29,7 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "x2car/core/camera_model.hpp"
 
@@ -51,5 +52,14 @@ void write_camera_info_yaml(const std::filesystem::path& path,
 core::CameraIntrinsics read_camera_info_yaml(const std::filesystem::path& path);
 core::CameraIntrinsics parse_camera_info_yaml(std::string_view text,
                                               const std::string& source_name);
+
+// The rules every camera_info source shares (this file and sensor_msgs/CameraInfo messages,
+// ros_camera_info.hpp). The model of a distortion_model name: plumb_bob, equidistant (or OpenCV's
+// fisheye); std::invalid_argument for rational_polynomial or an unknown name.
+core::DistortionModel camera_info_distortion_model(std::string_view name);
+// Sets the coefficients for `model`: plumb_bob takes 4 (k3 = 0) or 5, and no or all-zero
+// coefficients mean no distortion; std::invalid_argument for a count that does not fit.
+void set_camera_info_distortion(core::CameraIntrinsics& intrinsics, core::DistortionModel model,
+                                std::vector<double> coefficients);
 
 }  // namespace x2car::io

@@ -14,6 +14,8 @@
 #include "x2car/core/error.hpp"
 #include "x2car/core/options_check.hpp"
 #include "x2car/core/rotation.hpp"
+#include "x2car/io/bag.hpp"
+#include "x2car/io/bag_radar.hpp"
 #include "x2car/io/novatel_csv.hpp"
 #include "x2car/io/radar_conti.hpp"
 #include "x2car/io/radar_delphi.hpp"
@@ -204,8 +206,12 @@ std::filesystem::path generic_csv_in_folder(const std::filesystem::path& folder)
 }
 
 RadarLog read_radar_layout(const std::filesystem::path& input, RadarLayout layout,
-                           AngleUnit angle_unit) {
+                           const RadarReadOptions& options) {
+  const AngleUnit angle_unit = options.angle_unit;
   switch (layout) {
+    case RadarLayout::kBag:
+      return read_radar_bag(input,
+                            {.topic = options.topic, .allow_truncated = options.allow_truncated});
     case RadarLayout::kConti:
       return read_conti_radar(input);
     case RadarLayout::kDelphi:
@@ -255,10 +261,11 @@ void check_radar_azimuth(double azimuth, std::string_view text, AngleUnit unit,
                        : fmt::format("{} deg is beyond +-180 deg", text));
 }
 
-constexpr std::array<EnumName<RadarLayout>, 3> kRadarLayoutNames{{
+constexpr std::array<EnumName<RadarLayout>, 4> kRadarLayoutNames{{
     {RadarLayout::kConti, "conti"},
     {RadarLayout::kDelphi, "delphi"},
     {RadarLayout::kGeneric, "generic"},
+    {RadarLayout::kBag, "bag"},
 }};
 
 std::string to_string(RadarLayout layout) { return enum_to_string(kRadarLayoutNames, layout); }
@@ -458,6 +465,8 @@ void write_radar(const std::filesystem::path& folder, RadarLayout layout,
       if (error) throw InputError(folder.string(), "cannot create the folder: " + error.message());
       return write_radar_csv(folder / kRadarCsvFileName, detections);
     }
+    case RadarLayout::kBag:
+      throw std::invalid_argument("write_radar: x2car does not write bags");
   }
   throw std::invalid_argument("unknown radar layout");
 }
@@ -472,6 +481,7 @@ RadarLayout detect_radar_layout(const std::filesystem::path& input) {
   namespace fs = std::filesystem;
   std::error_code error;
   if (!fs::exists(input, error)) throw InputError(input.string(), "no such file or folder");
+  if (bag_container_of(input)) return RadarLayout::kBag;
   if (!fs::is_directory(input, error) || fs::exists(input / kRadarCsvFileName, error)) {
     return RadarLayout::kGeneric;
   }
@@ -504,7 +514,7 @@ void RadarReadOptions::Check() const {
   // Enum values cast from a bad number (e.g. a binding's int) are named rather than misread.
   const OptionsCheck check("RadarReadOptions");
   check.that(!layout || *layout == RadarLayout::kConti || *layout == RadarLayout::kDelphi ||
-                 *layout == RadarLayout::kGeneric,
+                 *layout == RadarLayout::kGeneric || *layout == RadarLayout::kBag,
              "layout", "must be a RadarLayout");
   check.that(angle_unit == AngleUnit::kRadians || angle_unit == AngleUnit::kDegrees, "angle_unit",
              "must be an AngleUnit");
@@ -514,7 +524,7 @@ RadarLog read_radar(const std::filesystem::path& input, const RadarReadOptions& 
   options.Check();
   const RadarLayout layout = options.layout ? *options.layout : detect_radar_layout(input);
   try {
-    RadarLog log = read_radar_layout(input, layout, options.angle_unit);
+    RadarLog log = read_radar_layout(input, layout, options);
     log.layout = layout;
     return log;
   } catch (const InputError& error) {

@@ -4,6 +4,7 @@
 //   conti    a folder of scan files, one per scan (radar_conti.hpp)
 //   delphi   a folder of scan files, one per scan (radar_delphi.hpp)
 //   generic  one CSV with a header (below)
+//   bag      a radar_msgs/RadarScan or RadarTracks topic of a bag (bag_radar.hpp; read only)
 //
 // The radar frame R is x forward, y left, z up (DESIGN §1). A 2-D radar measures in its x-y plane:
 //   range      = hypot(x, y)                      [m]
@@ -56,7 +57,8 @@ struct RadarDetection {
   std::optional<double> rcs_dbsm;  // radar cross-section [dBsm], when the layout has it
 };
 
-enum class RadarLayout { kConti, kDelphi, kGeneric };
+// kBag: a bag's radar_msgs topic (bag_radar.hpp); read only.
+enum class RadarLayout { kConti, kDelphi, kGeneric, kBag };
 
 struct RadarLog {
   // UTC of the log's time 0 [s since the Unix epoch]: the earliest row of a Conti or Delphi folder.
@@ -69,7 +71,7 @@ struct RadarLog {
   std::vector<std::string> notices;
 };
 
-std::string to_string(RadarLayout layout);  // "conti", "delphi", "generic"
+std::string to_string(RadarLayout layout);  // "conti", "delphi", "generic", "bag"
 // Inverse of to_string; throws std::invalid_argument listing the valid names.
 RadarLayout radar_layout_from_string(std::string_view name);
 std::vector<std::string> radar_layout_names();  // the CLI's choices, in table order
@@ -200,6 +202,10 @@ struct RadarReadOptions {
   // bearing (Conti has none: it derives the azimuth from px, py). Default radians
   // (docs/formats.md); some exports write degrees.
   AngleUnit angle_unit = AngleUnit::kRadians;
+  // A bag's radar topic (unset: its only one), and whether an MCAP file cut short is read up to
+  // the cut.
+  std::optional<std::string> topic;
+  bool allow_truncated = false;
 
   void Check() const;  // throws std::invalid_argument naming a field out of range
 };

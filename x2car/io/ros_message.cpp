@@ -70,6 +70,14 @@ double RosMessageReader::float64(const char* field) {
   return std::bit_cast<double>(read_unsigned<std::uint64_t>(field));
 }
 
+float RosMessageReader::float32(const char* field) {
+  return std::bit_cast<float>(read_unsigned<std::uint32_t>(field));
+}
+
+std::string_view RosMessageReader::fixed_bytes(std::size_t count, const char* field) {
+  return take(count, field);
+}
+
 std::string RosMessageReader::string(const char* field) {
   const std::uint32_t length = uint32(field);
   const std::string_view bytes = take(length, field);

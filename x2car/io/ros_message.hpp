@@ -38,7 +38,10 @@ class RosMessageReader {
   std::uint8_t uint8(const char* field);
   bool boolean(const char* field);
   double float64(const char* field);
+  float float32(const char* field);
   std::string string(const char* field);
+  // A fixed array of `count` bytes (uint8[N]), a view into the message.
+  std::string_view fixed_bytes(std::size_t count, const char* field);
   // A uint8[] sequence: its bytes, a view into the message.
   std::string_view byte_sequence(const char* field);
   void skip_float64s(std::size_t count, const char* field);  // a fixed float64 array

@@ -3,8 +3,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <charconv>
-#include <cstdlib>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -24,17 +22,6 @@ struct SweepMessage {
   io::BagMessageRef ref;
   std::size_t count = 0;  // the message's number on its topic, for errors
 };
-
-// Seconds of a nanosecond stamp, rounded once from its decimal value: the same double as a PCD
-// file named by that time ("000012.300000.pcd" and 12 s + 300000000 ns give one value).
-double seconds_of(std::int64_t stamp_ns) {
-  const std::string text = fmt::format("{}{}.{:09}", stamp_ns < 0 ? "-" : "",
-                                       std::abs(stamp_ns / 1'000'000'000LL),
-                                       std::abs(stamp_ns % 1'000'000'000LL));
-  double seconds = 0.0;
-  std::from_chars(text.data(), text.data() + text.size(), seconds);
-  return seconds;
-}
 
 }  // namespace
 
@@ -98,9 +85,9 @@ BagSweeps sweeps_from_bag(const std::filesystem::path& path, const BagSweepOptio
       throw InputError(file, 0, topic.name,
                        fmt::format("messages {} and {} have one header.stamp ({} s)",
                                    sweeps[i - 1].count, sweeps[i].count,
-                                   seconds_of(sweeps[i].stamp_ns)));
+                                   io::stamp_seconds(sweeps[i].stamp_ns)));
     }
-    out.source.times.push_back(seconds_of(sweeps[i].stamp_ns));
+    out.source.times.push_back(io::stamp_seconds(sweeps[i].stamp_ns));
   }
   const io::RosEncoding encoding = io::ros_encoding_of(topic, path);
   // Shared: the source may be copied, and outlives this call.

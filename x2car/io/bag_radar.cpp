@@ -1,0 +1,147 @@
+#include "x2car/io/bag_radar.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "x2car/core/error.hpp"
+#include "x2car/io/bag.hpp"
+#include "x2car/io/novatel_csv.hpp"
+#include "x2car/io/ros_message.hpp"
+#include "x2car/io/text_lines.hpp"
+
+namespace x2car::io {
+namespace {
+
+constexpr const char* kRadarScan = "radar_msgs/RadarScan";
+constexpr const char* kRadarTracks = "radar_msgs/RadarTracks";
+constexpr std::int64_t kUnixStampNs = 100'000'000LL * 1'000'000'000LL;  // 10^8 s
+
+bool is_radar_type(const std::string& type) {
+  return ros_type_is(type, kRadarScan) || ros_type_is(type, kRadarTracks);
+}
+
+double finite(double value, const std::string& source, const char* field) {
+  if (!std::isfinite(value)) throw InputError(source, 0, field, "not a finite number");
+  return value;
+}
+
+struct StampedDetection {
+  std::int64_t stamp_ns = 0;
+  RadarDetection detection;  // time unset
+};
+
+void decode_scan(RosMessageReader& message, std::vector<StampedDetection>& out) {
+  const std::int64_t stamp_ns = message.header().stamp_ns;
+  const std::uint32_t count = message.uint32("returns");
+  for (std::uint32_t i = 0; i < count; ++i) {
+    const std::string& source = message.source();
+    RadarDetection detection;
+    detection.range = finite(message.float32("returns.range"), source, "returns.range");
+    detection.azimuth = finite(message.float32("returns.azimuth"), source, "returns.azimuth");
+    message.float32("returns.elevation");
+    detection.range_rate = finite(message.float32("returns.doppler_velocity"), source,
+                                  "returns.doppler_velocity");
+    detection.rcs_dbsm = message.float32("returns.amplitude");
+    if (!std::isfinite(*detection.rcs_dbsm)) detection.rcs_dbsm.reset();
+    detection.x = detection.range * std::cos(detection.azimuth);
+    detection.y = detection.range * std::sin(detection.azimuth);
+    out.push_back({.stamp_ns = stamp_ns, .detection = detection});
+  }
+}
+
+void decode_tracks(RosMessageReader& message, std::map<std::string, int>& track_ids,
+                   std::vector<StampedDetection>& out) {
+  const std::int64_t stamp_ns = message.header().stamp_ns;
+  const std::uint32_t count = message.uint32("tracks");
+  const std::string& source = message.source();
+  for (std::uint32_t i = 0; i < count; ++i) {
+    const std::string uuid(message.fixed_bytes(16, "tracks.uuid"));
+    RadarDetection detection;
+    const auto [id, added] = track_ids.emplace(uuid, static_cast<int>(track_ids.size()));
+    detection.track_id = id->second;
+    detection.new_track = added;
+    detection.x = finite(message.float64("tracks.position.x"), source, "tracks.position.x");
+    detection.y = finite(message.float64("tracks.position.y"), source, "tracks.position.y");
+    message.float64("tracks.position.z");
+    detection.vx = finite(message.float64("tracks.velocity.x"), source, "tracks.velocity.x");
+    detection.vy = finite(message.float64("tracks.velocity.y"), source, "tracks.velocity.y");
+    detection.has_velocity = true;
+    message.skip_float64s(7, "tracks.velocity.z, acceleration, size");
+    message.uint16("tracks.classification");
+    for (int j = 0; j < 4 * 6; ++j) message.float32("tracks covariances");
+    set_polar_from_cartesian(detection);
+    out.push_back({.stamp_ns = stamp_ns, .detection = detection});
+  }
+}
+
+}  // namespace
+
+RadarLog read_radar_bag(const std::filesystem::path& path, const BagRadarOptions& options) {
+  const std::string file = path.string();
+  const std::unique_ptr<BagFile> bag =
+      open_bag(path, {.allow_truncated = options.allow_truncated});
+  const auto chosen_topic = [&](const BagTopic& topic) {
+    return options.topic ? topic.name == *options.topic : is_radar_type(topic.type);
+  };
+  std::vector<StampedDetection> stamped;
+  std::map<std::string, int> track_ids;
+  std::vector<std::int64_t> counts;
+  bag->scan(chosen_topic, [&](const BagMessage& message) {
+    counts.resize(bag->topics().size(), 0);
+    const std::int64_t count = ++counts[message.topic];
+    const BagTopic& topic = bag->topics()[message.topic];
+    if (!chosen_topic(topic) || !is_radar_type(topic.type)) return;
+    RosMessageReader reader(message.data, ros_encoding_of(topic, path),
+                            fmt::format("{} ({} message {})", file, topic.name, count));
+    if (ros_type_is(topic.type, kRadarScan)) {
+      decode_scan(reader, stamped);
+    } else {
+      decode_tracks(reader, track_ids, stamped);
+    }
+  });
+
+  std::vector<std::string> radar_topics;
+  const BagTopic* chosen = nullptr;
+  for (const BagTopic& topic : bag->topics()) {
+    if (is_radar_type(topic.type)) radar_topics.push_back(topic.name);
+    if (chosen_topic(topic) && chosen == nullptr) chosen = &topic;
+  }
+  if (options.topic && (chosen == nullptr || !is_radar_type(chosen->type))) {
+    throw InputError(file, 0, *options.topic,
+                     chosen == nullptr
+                         ? fmt::format("no such topic; the radar topics: {}",
+                                       radar_topics.empty() ? "none" : join(radar_topics))
+                         : fmt::format("is {}, not {} or {}", chosen->type, kRadarScan,
+                                       kRadarTracks));
+  }
+  if (!options.topic && radar_topics.size() != 1) {
+    throw InputError(file, radar_topics.empty()
+                               ? fmt::format("holds no {} or {} topic", kRadarScan, kRadarTracks)
+                               : fmt::format("holds {} radar topics ({}): pick one with --topic",
+                                             radar_topics.size(), join(radar_topics)));
+  }
+  if (stamped.empty()) throw InputError(file, 0, chosen->name, "the topic holds no detections");
+  std::ranges::stable_sort(stamped, {}, &StampedDetection::stamp_ns);
+
+  RadarLog log;
+  log.layout = RadarLayout::kBag;
+  const std::int64_t first_ns = stamped.front().stamp_ns;
+  const bool unix_clock = first_ns >= kUnixStampNs;
+  if (unix_clock) log.start_unix_time = static_cast<double>(first_ns) * 1e-9;
+  for (StampedDetection& entry : stamped) {
+    // As the GNSS/INS bag reader counts its records (bag_ins.cpp).
+    entry.detection.time =
+        unix_clock ? seconds_between(entry.stamp_ns, first_ns)
+                   : static_cast<double>(entry.stamp_ns / 1'000'000'000LL) +
+                         static_cast<double>(entry.stamp_ns % 1'000'000'000LL) * 1e-9;
+    log.detections.push_back(entry.detection);
+  }
+  return log;
+}
+
+}  // namespace x2car::io
