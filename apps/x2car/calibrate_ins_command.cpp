@@ -25,7 +25,8 @@ struct CalibrateInsArguments {
   std::string yaw_convention;  // empty: as the CSV header says
   std::string angle_unit = io::to_string(io::InsCsvOptions{}.angle_unit);
   std::vector<std::string> columns;  // --columns time=GPS Time,east=E,...
-  std::string topic;                 // a bag's pose topic
+  std::string topic;                 // a bag's pose or NavSatFix topic
+  std::string imu_topic;             // the Imu topic beside a NavSatFix topic
   TrackArguments track;
   bool spline_velocity = false;
   OutputArguments output;
@@ -48,6 +49,7 @@ io::InsReadOptions read_options(const CalibrateInsArguments& arguments) {
   }
   options.csv.Check();
   if (!arguments.topic.empty()) options.topic = arguments.topic;
+  if (!arguments.imu_topic.empty()) options.imu_topic = arguments.imu_topic;
   return options;
 }
 
@@ -96,7 +98,8 @@ RunCommand setup_calibrate_ins_command(CLI::App& command) {
       .add_option("-i,--input", arguments->input_path,
                   "GNSS/INS log: novatel_enu.csv, a generic CSV with a header, a KITTI OXTS "
                   "folder, a bag (MCAP, ROS 1 .bag, ROS 2 bag folder) with a nav_msgs/Odometry or "
-                  "geometry_msgs/PoseStamped topic, or a drive folder holding one "
+                  "geometry_msgs/PoseStamped topic, or sensor_msgs/NavSatFix with "
+                  "sensor_msgs/Imu, or a drive folder holding one "
                   "(ins/novatel_enu.csv or x2car.yaml)")
       ->type_name("PATH")
       ->required();
@@ -125,7 +128,13 @@ RunCommand setup_calibrate_ins_command(CLI::App& command) {
       ->delimiter(',');
   command
       .add_option("--topic", arguments->topic,
-                  "A bag's Odometry or PoseStamped topic (default: its only one)")
+                  "A bag's Odometry, PoseStamped or NavSatFix topic (default: its only pose "
+                  "topic, else its only NavSatFix topic)")
+      ->type_name("TOPIC");
+  command
+      .add_option("--imu-topic", arguments->imu_topic,
+                  "With a NavSatFix topic: the Imu topic whose orientation gives the attitude "
+                  "(default: its only one)")
       ->type_name("TOPIC");
   add_track_options(command, arguments->track, "samples");
   command.add_flag("--spline-velocity", arguments->spline_velocity,

@@ -114,12 +114,9 @@ int run_inspect(const InspectArguments& arguments) {
                              stats.count, rate, topic_span_s, stats.out_of_order,
                              calibrator_for(topic.type));
   }
-  std::cout
-      << "(late: messages logged before the one before them on their topic. 'for': which "
-         "calibrator's data a topic holds. x2car calibrates the GNSS/INS from a nav_msgs/Odometry "
-         "or geometry_msgs/PoseStamped topic (calibrate ins --input BAG --topic T) and the LiDAR "
-         "from a sensor_msgs/PointCloud2 topic (calibrate lidar --input BAG --topic T); the "
-         "other types are not read yet.)\n";
+  std::cout << "(late: messages logged before the one before them on their topic. 'for': which "
+               "calibrator reads a topic: calibrate <for> --input BAG --topic T; tf topics are "
+               "not read yet.)\n";
   return kExitOk;
 }
 

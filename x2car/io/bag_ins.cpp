@@ -7,12 +7,15 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <memory>
+#include <optional>
 #include <utility>
 #include <vector>
 
 #include "x2car/core/error.hpp"
 #include "x2car/core/rotation.hpp"
 #include "x2car/io/bag.hpp"
+#include "x2car/io/geodetic.hpp"
 #include "x2car/io/novatel_csv.hpp"
 #include "x2car/io/ros_message.hpp"
 #include "x2car/io/text_lines.hpp"
@@ -22,6 +25,8 @@ namespace {
 
 constexpr const char* kOdometryType = "nav_msgs/Odometry";
 constexpr const char* kPoseStampedType = "geometry_msgs/PoseStamped";
+constexpr const char* kNavSatFixType = "sensor_msgs/NavSatFix";
+constexpr const char* kImuType = "sensor_msgs/Imu";
 constexpr std::int64_t kUnixStampNs = 100'000'000LL * 1'000'000'000LL;  // 10^8 s
 
 struct StampedRecord {
@@ -96,53 +101,228 @@ bool is_pose_type(const std::string& type) {
   return ros_type_is(type, kOdometryType) || ros_type_is(type, kPoseStampedType);
 }
 
+// sensor_msgs/NavSatFix: header, status (int8 status, uint16 service), latitude, longitude,
+// altitude, covariance[9], covariance type. Unset for a message without a fix (status < 0).
+std::optional<std::pair<std::int64_t, GeodeticPosition>> decode_fix(RosMessageReader& message) {
+  const std::int64_t stamp_ns = message.header().stamp_ns;
+  const auto status = static_cast<std::int8_t>(message.uint8("status.status"));
+  message.uint16("status.service");
+  GeodeticPosition position;
+  position.latitude_deg = message.float64("latitude");
+  position.longitude_deg = message.float64("longitude");
+  position.altitude_m = message.float64("altitude");
+  if (status < 0) return std::nullopt;  // STATUS_NO_FIX
+  if (!is_valid_geodetic(position)) {
+    throw InputError(message.source(), 0, "latitude, longitude, altitude",
+                     "not a position on the earth (latitude beyond +-90 deg or not finite)");
+  }
+  return std::pair{stamp_ns, position};
+}
+
+// sensor_msgs/Imu: header, orientation (x, y, z, w), orientation_covariance[9] ([0] = -1: no
+// orientation), ... Unset for a message without an orientation.
+struct ImuOrientation {
+  std::int64_t stamp_ns = 0;
+  Eigen::Quaterniond local_level_from_imu;
+};
+
+std::optional<ImuOrientation> decode_imu(RosMessageReader& message) {
+  ImuOrientation out;
+  out.stamp_ns = message.header().stamp_ns;
+  const double qx = message.float64("orientation.x");
+  const double qy = message.float64("orientation.y");
+  const double qz = message.float64("orientation.z");
+  const double qw = message.float64("orientation.w");
+  const double covariance = message.float64("orientation_covariance");
+  if (covariance == -1.0) return std::nullopt;
+  const Eigen::Quaterniond q(qw, qx, qy, qz);
+  if (!std::isfinite(q.norm()) || std::abs(q.norm() - 1.0) > 1e-2) {
+    throw InputError(message.source(), 0, "orientation",
+                     fmt::format("the quaternion has norm {}, not 1", format_number(q.norm())));
+  }
+  out.local_level_from_imu = q.normalized();
+  return out;
+}
+
+// Per topic, what the scan decoded.
+struct TopicData {
+  std::vector<StampedRecord> poses;
+  std::vector<std::pair<std::int64_t, GeodeticPosition>> fixes;
+  std::vector<ImuOrientation> orientations;
+  std::int64_t count = 0;
+  std::int64_t without = 0;  // fixes without a fix, Imu messages without an orientation
+};
+
+// The fixes with the Imu's orientation at their stamps (spherical interpolation between the two
+// samples around each; fixes outside the Imu's span are left out), positions and attitudes in the
+// ENU frame of the first fix (the attitude turned from each fix's local level, as the other
+// geodetic readers do). No velocity: the calibrator differentiates the track.
+std::vector<StampedRecord> fixes_with_orientation(
+    std::vector<std::pair<std::int64_t, GeodeticPosition>> fixes,
+    std::vector<ImuOrientation> orientations, std::optional<GeodeticPosition>& origin) {
+  std::ranges::stable_sort(fixes, {}, [](const auto& fix) { return fix.first; });
+  std::ranges::stable_sort(orientations, {}, &ImuOrientation::stamp_ns);
+  std::vector<StampedRecord> out;
+  if (fixes.empty() || orientations.empty()) return out;
+  const LocalEnuFrame frame(fixes.front().second);
+  origin = fixes.front().second;
+  std::size_t after = 0;
+  for (const auto& [stamp_ns, position] : fixes) {
+    while (after < orientations.size() && orientations[after].stamp_ns < stamp_ns) ++after;
+    if (after == orientations.size()) break;
+    Eigen::Quaterniond local_level_from_imu;
+    if (orientations[after].stamp_ns == stamp_ns) {
+      local_level_from_imu = orientations[after].local_level_from_imu;
+    } else if (after == 0) {
+      continue;
+    } else {
+      const ImuOrientation& before = orientations[after - 1];
+      const ImuOrientation& next = orientations[after];
+      const double share = static_cast<double>(stamp_ns - before.stamp_ns) /
+                           static_cast<double>(next.stamp_ns - before.stamp_ns);
+      local_level_from_imu = before.local_level_from_imu.slerp(share, next.local_level_from_imu);
+    }
+    StampedRecord record;
+    record.stamp_ns = stamp_ns;
+    record.record.position_enu = frame.enu_from_geodetic(position);
+    record.record.attitude = euler_from_rotation(frame.frame_from_local_level(position) *
+                                                 local_level_from_imu.toRotationMatrix());
+    out.push_back(record);
+  }
+  return out;
+}
+
+// The one topic of `kind` (by --topic when it names one of them), or an InputError listing them.
+const BagTopic* pick_topic(const std::vector<const BagTopic*>& candidates,
+                           const std::optional<std::string>& wanted, const std::string& file,
+                           const char* kind, const char* option) {
+  if (wanted) {
+    for (const BagTopic* topic : candidates) {
+      if (topic->name == *wanted) return topic;
+    }
+    return nullptr;
+  }
+  if (candidates.size() == 1) return candidates.front();
+  if (candidates.empty()) return nullptr;
+  std::vector<std::string> names;
+  for (const BagTopic* topic : candidates) names.push_back(topic->name);
+  throw InputError(file, fmt::format("holds {} {} topics ({}): pick one with {}", names.size(),
+                                     kind, join(names), option));
+}
+
 }  // namespace
 
 InsLog read_ins_bag(const std::filesystem::path& path, const BagInsOptions& options) {
   const std::string file = path.string();
   const std::unique_ptr<BagFile> bag = open_bag(path, {.allow_truncated = options.allow_truncated});
-  const auto chosen_topic = [&](const BagTopic& topic) {
-    return options.topic ? topic.name == *options.topic : is_pose_type(topic.type);
+  const auto wanted = [&](const BagTopic& topic) {
+    return is_pose_type(topic.type) || ros_type_is(topic.type, kNavSatFixType) ||
+           ros_type_is(topic.type, kImuType);
   };
-  std::vector<StampedRecord> stamped;
-  std::vector<std::int64_t> counts;
-  bag->scan(chosen_topic, [&](const BagMessage& message) {
-    counts.resize(bag->topics().size(), 0);
-    const std::int64_t count = ++counts[message.topic];
+  std::vector<TopicData> data;
+  bag->scan(wanted, [&](const BagMessage& message) {
+    data.resize(bag->topics().size());
+    TopicData& topic_data = data[message.topic];
+    const std::int64_t count = ++topic_data.count;
     const BagTopic& topic = bag->topics()[message.topic];
-    if (!chosen_topic(topic) || !is_pose_type(topic.type)) return;
+    if (!wanted(topic)) return;
     const RosEncoding encoding = ros_encoding_of(topic, path);
     const std::string source = fmt::format("{} ({} message {})", file, topic.name, count);
-    stamped.push_back(ros_type_is(topic.type, kOdometryType)
-                          ? decode_odometry(message.data, encoding, source)
-                          : decode_pose_stamped(message.data, encoding, source));
+    if (ros_type_is(topic.type, kOdometryType)) {
+      topic_data.poses.push_back(decode_odometry(message.data, encoding, source));
+    } else if (ros_type_is(topic.type, kPoseStampedType)) {
+      topic_data.poses.push_back(decode_pose_stamped(message.data, encoding, source));
+    } else {
+      RosMessageReader reader(message.data, encoding, source);
+      if (ros_type_is(topic.type, kNavSatFixType)) {
+        auto fix = decode_fix(reader);
+        if (fix) topic_data.fixes.push_back(*fix);
+        topic_data.without += fix ? 0 : 1;
+      } else {
+        auto orientation = decode_imu(reader);
+        if (orientation) topic_data.orientations.push_back(*orientation);
+        topic_data.without += orientation ? 0 : 1;
+      }
+    }
   });
+  data.resize(bag->topics().size());
 
-  std::vector<std::string> pose_topics;
-  const BagTopic* chosen = nullptr;
+  std::vector<const BagTopic*> pose_topics;
+  std::vector<const BagTopic*> fix_topics;
+  std::vector<const BagTopic*> imu_topics;
+  const BagTopic* named = nullptr;
   for (const BagTopic& topic : bag->topics()) {
-    if (is_pose_type(topic.type)) pose_topics.push_back(topic.name);
-    if (chosen_topic(topic) && chosen == nullptr) chosen = &topic;
+    if (is_pose_type(topic.type)) pose_topics.push_back(&topic);
+    if (ros_type_is(topic.type, kNavSatFixType)) fix_topics.push_back(&topic);
+    if (ros_type_is(topic.type, kImuType)) imu_topics.push_back(&topic);
+    if (options.topic && topic.name == *options.topic) named = &topic;
   }
-  if (options.topic && (chosen == nullptr || !is_pose_type(chosen->type))) {
+  const auto names_of = [](const std::vector<const BagTopic*>& topics) {
+    std::vector<std::string> names;
+    for (const BagTopic* topic : topics) names.push_back(topic->name);
+    return names.empty() ? std::string("none") : join(names);
+  };
+  const auto index_of = [&](const BagTopic* topic) {
+    return static_cast<std::size_t>(topic - bag->topics().data());
+  };
+  if (options.topic && (named == nullptr || !(is_pose_type(named->type) ||
+                                              ros_type_is(named->type, kNavSatFixType)))) {
     throw InputError(
         file, 0, *options.topic,
-        chosen == nullptr
-            ? fmt::format("no such topic; the pose topics: {}",
-                          pose_topics.empty() ? "none" : join(pose_topics))
-            : fmt::format("is {}, not {} or {}", chosen->type, kOdometryType, kPoseStampedType));
+        named == nullptr
+            ? fmt::format("no such topic; the pose topics: {}; the NavSatFix topics: {}",
+                          names_of(pose_topics), names_of(fix_topics))
+            : fmt::format("is {}, not {}, {} or {}", named->type, kOdometryType,
+                          kPoseStampedType, kNavSatFixType));
   }
-  if (!options.topic && pose_topics.size() != 1) {
-    throw InputError(file, pose_topics.empty()
-                               ? fmt::format("holds no {} or {} topic for a GNSS/INS log",
-                                             kOdometryType, kPoseStampedType)
-                               : fmt::format("holds {} pose topics ({}): pick one with --topic",
-                                             pose_topics.size(), join(pose_topics)));
-  }
-  if (stamped.empty()) throw InputError(file, 0, chosen->name, "the topic holds no messages");
-  std::ranges::stable_sort(stamped, {}, &StampedRecord::stamp_ns);
+
   InsLog log;
   log.format = InsFormat::kBag;
+  std::vector<StampedRecord> stamped;
+  const BagTopic* chosen = nullptr;
+  if (named != nullptr ? is_pose_type(named->type) : !pose_topics.empty()) {
+    chosen = named != nullptr ? named
+                              : pick_topic(pose_topics, std::nullopt, file, "pose", "--topic");
+    stamped = std::move(data[index_of(chosen)].poses);
+  } else if (named != nullptr || !fix_topics.empty()) {
+    // GNSS fixes with an IMU's orientation: what a car without an INS driver records.
+    chosen = named != nullptr ? named
+                              : pick_topic(fix_topics, std::nullopt, file, "NavSatFix", "--topic");
+    const BagTopic* imu = pick_topic(imu_topics, options.imu_topic, file, "Imu", "--imu-topic");
+    if (imu == nullptr) {
+      throw InputError(file, 0, options.imu_topic.value_or(chosen->name),
+                       options.imu_topic
+                           ? fmt::format("no such Imu topic; the Imu topics: {}",
+                                         names_of(imu_topics))
+                           : fmt::format("{} has no attitude: the bag needs a {} topic with an "
+                                         "orientation beside it",
+                                         chosen->name, kImuType));
+    }
+    TopicData& imu_data = data[index_of(imu)];
+    if (imu_data.orientations.empty()) {
+      throw InputError(file, 0, imu->name,
+                       fmt::format("none of its {} messages carries an orientation "
+                                   "(orientation_covariance[0] = -1)",
+                                   imu_data.count));
+    }
+    stamped = fixes_with_orientation(std::move(data[index_of(chosen)].fixes),
+                                     std::move(imu_data.orientations), log.enu_origin);
+    if (data[index_of(chosen)].without > 0) {
+      log.notices.push_back(fmt::format("{} ({}): {} messages without a fix were left out", file,
+                                        chosen->name, data[index_of(chosen)].without));
+    }
+  } else {
+    throw InputError(file, fmt::format("holds no {}, {} or {} (with {}) topic for a GNSS/INS log",
+                                       kOdometryType, kPoseStampedType, kNavSatFixType,
+                                       kImuType));
+  }
+  if (stamped.empty()) {
+    throw InputError(file, 0, chosen->name,
+                     ros_type_is(chosen->type, kNavSatFixType)
+                         ? "no fix falls within the Imu topic's time span"
+                         : "the topic holds no messages");
+  }
+  std::ranges::stable_sort(stamped, {}, &StampedRecord::stamp_ns);
   const std::int64_t first_ns = stamped.front().stamp_ns;
   const bool unix_clock = first_ns >= kUnixStampNs;
   if (unix_clock) log.start_unix_time = static_cast<double>(first_ns) * 1e-9;

@@ -29,8 +29,10 @@ std::vector<std::string> ins_format_names();
 struct InsReadOptions {
   InsFormat format = InsFormat::kAuto;
   InsCsvOptions csv;  // how the generic CSV's columns are read
-  // A bag's pose topic (bag_ins.hpp); unset: its only one.
+  // A bag's pose or NavSatFix topic, and the Imu topic beside a NavSatFix one (bag_ins.hpp);
+  // unset: its only one.
   std::optional<std::string> topic;
+  std::optional<std::string> imu_topic;
 };
 
 struct InsLog {
