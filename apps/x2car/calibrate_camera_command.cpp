@@ -6,6 +6,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "apps/x2car/bag_prior.hpp"
 #include "apps/x2car/calibration_output.hpp"
 #include "apps/x2car/camera_inputs.hpp"
 #include "apps/x2car/number_checks.hpp"
@@ -93,6 +94,7 @@ int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
   io::ImageFolder folder;  // outlives the frames that read from it
   camera::CameraFrameSource frames;
   std::optional<core::CameraIntrinsics> bag_intrinsics;
+  std::string frame_id;  // a bag's image frame, for its tf prior
   const bool from_bag = io::bag_container_of(arguments.input_path).has_value();
   if (!from_bag && !arguments.topic.empty()) {
     throw InputError(arguments.input_path, 0, "--topic", "is for a bag; this is not one");
@@ -107,6 +109,7 @@ int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
                  bag.intrinsics ? fmt::format("; intrinsics from {}", bag.info_topic) : "");
     frames = std::move(bag.source);
     bag_intrinsics = bag.intrinsics;
+    frame_id = bag.frame_id;
     if (!bag_intrinsics && arguments.intrinsics_path.empty()) {
       throw InputError(arguments.input_path, 0, bag.topic,
                        "the bag has no sensor_msgs/CameraInfo topic in this topic's namespace; "
@@ -133,16 +136,20 @@ int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
   const core::CameraIntrinsics intrinsics =
       bag_intrinsics && arguments.intrinsics_path.empty()
           ? *bag_intrinsics
-          : find_camera_intrinsics(arguments.input_path, {arguments.intrinsics_path,
-                                                          arguments.camera_index,
-                                                          arguments.unrectified});
+          : find_camera_intrinsics(
+                arguments.input_path,
+                {arguments.intrinsics_path, arguments.camera_index, arguments.unrectified});
   if (!arguments.ins_path.empty()) {
     frames.motion = camera_motion_from_log(arguments.ins_path, frames, arguments.ins_topic);
   }
   ProgressBar progress("frames", spdlog::should_log(spdlog::level::info));
   options.progress = progress.callback();
-  const CalibrationResult result = camera::calibrate_camera(frames, intrinsics, options);
+  CalibrationResult result = camera::calibrate_camera(frames, intrinsics, options);
   progress.finish();
+  // Images are stamped in the optical frame (REP 103's *_optical_frame); the prior is turned to
+  // the camera's body frame, whose angles x2car reports.
+  result.prior =
+      bag_prior(arguments.input_path, frame_id, frame_id.find("optical") != std::string::npos);
   ReportContext report = report_context("camera", arguments.input_path);
   if (!arguments.output.report_path.empty()) {
     report.frames = camera::sample_frame_views(frames, intrinsics);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/x2car/bag_prior.hpp"
 #include "apps/x2car/calibration_output.hpp"
 #include "apps/x2car/subcommand.hpp"
 #include "apps/x2car/track_options.hpp"
@@ -86,7 +87,8 @@ int run_calibrate_ins(const CalibrateInsArguments& arguments) {
   for (const std::string& notice : log.notices) spdlog::warn("{}", notice);
   spdlog::info("read {} GNSS/INS samples ({}) from {}", log.records.size(),
                io::to_string(log.format), arguments.input_path);
-  const CalibrationResult result = ins::calibrate_ins(log.records, calibration_options(arguments));
+  CalibrationResult result = ins::calibrate_ins(log.records, calibration_options(arguments));
+  result.prior = bag_prior(arguments.input_path, log.frame_id);
   return finish_calibration(result, arguments.output, report_context("ins", arguments.input_path));
 }
 

@@ -5,6 +5,7 @@
 
 #include <optional>
 
+#include "apps/x2car/bag_prior.hpp"
 #include "apps/x2car/calibration_output.hpp"
 #include "apps/x2car/number_checks.hpp"
 #include "apps/x2car/progress_bar.hpp"
@@ -45,6 +46,7 @@ lidar::LidarCalibrationOptions calibration_options(const CalibrateLidarArguments
 int run_calibrate_lidar(const CalibrateLidarArguments& arguments) {
   check_output_arguments(arguments.output, {{{"--input", arguments.input_path}}});
   lidar::SweepSource sweeps;
+  std::string frame_id;  // a bag's sensor frame, for its tf prior
   if (io::bag_container_of(arguments.input_path)) {
     lidar::BagSweepOptions bag_options;
     if (!arguments.topic.empty()) bag_options.topic = arguments.topic;
@@ -53,6 +55,7 @@ int run_calibrate_lidar(const CalibrateLidarArguments& arguments) {
     spdlog::info("found {} sweeps on {} (frame '{}') in {}", bag.source.times.size(), bag.topic,
                  bag.frame_id, arguments.input_path);
     sweeps = std::move(bag.source);
+    frame_id = bag.frame_id;
   } else {
     if (!arguments.topic.empty()) {
       throw InputError(arguments.input_path, 0, "--topic", "is for a bag; this is a folder");
@@ -66,8 +69,9 @@ int run_calibrate_lidar(const CalibrateLidarArguments& arguments) {
   lidar::LidarCalibrationOptions options = calibration_options(arguments);
   ProgressBar progress("sweeps", spdlog::should_log(spdlog::level::info));
   options.progress = progress.callback();
-  const CalibrationResult result = lidar::calibrate_lidar(sweeps, options);
+  CalibrationResult result = lidar::calibrate_lidar(sweeps, options);
   progress.finish();
+  result.prior = bag_prior(arguments.input_path, frame_id);
   return finish_calibration(result, arguments.output,
                             report_context("lidar", arguments.input_path));
 }

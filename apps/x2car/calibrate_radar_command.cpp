@@ -7,6 +7,7 @@
 #include <optional>
 #include <vector>
 
+#include "apps/x2car/bag_prior.hpp"
 #include "apps/x2car/calibration_output.hpp"
 #include "apps/x2car/number_checks.hpp"
 #include "apps/x2car/subcommand.hpp"
@@ -79,8 +80,16 @@ int run_calibrate_radar(const CalibrateRadarArguments& arguments) {
   // The radar's times on the GNSS/INS log's clock.
   const std::vector<io::RadarDetection> detections =
       radar::detections_on_ins_clock(radar_log, ins_log);
-  const CalibrationResult result =
-      radar::calibrate_radar(detections, ins_log.records, calibration_options(arguments));
+  radar::RadarCalibrationOptions options = calibration_options(arguments);
+  const std::optional<MountingPrior> prior = bag_prior(arguments.input_path, radar_log.frame_id);
+  // The bag's own lever arm when the user gave none: the turns' omega x r term needs it.
+  if (prior && !options.lever_arm_in_vehicle) {
+    options.lever_arm_in_vehicle = prior->translation.head<2>();
+    spdlog::info("the radar's lever arm from the bag's transforms: {:.3f} {:.3f} m",
+                 prior->translation.x(), prior->translation.y());
+  }
+  CalibrationResult result = radar::calibrate_radar(detections, ins_log.records, options);
+  result.prior = prior;
   return finish_calibration(result, arguments.output,
                             report_context("radar", arguments.input_path));
 }

@@ -26,6 +26,34 @@ std::string angle_line(const char* name, const std::optional<double>& value,
                      deg_from_rad(*value), deg_from_rad(standard_error.value_or(0.0)));
 }
 
+// The log's own mounting (a bag's tf_static) beside the calibrated one: before -> after.
+std::string prior_lines(const CalibrationResult& result) {
+  const MountingPrior& prior = *result.prior;
+  std::string text = fmt::format(
+      "  prior {} -> {} ({}): roll {:.4f} pitch {:.4f} yaw {:.4f} deg at {:.3f} {:.3f} {:.3f} m\n",
+      prior.parent, prior.child, prior.source, deg_from_rad(prior.angles.roll),
+      deg_from_rad(prior.angles.pitch), deg_from_rad(prior.angles.yaw), prior.translation.x(),
+      prior.translation.y(), prior.translation.z());
+  std::string changes;
+  const auto change = [&](const char* name, const std::optional<double>& after, double before) {
+    if (!after) return;
+    changes += fmt::format(" {} {:.4f} -> {:.4f} ({:+.4f}),", name, deg_from_rad(before),
+                           deg_from_rad(*after), deg_from_rad(wrap_angle(*after - before)));
+  };
+  change("roll", result.roll, prior.angles.roll);
+  change("pitch", result.pitch, prior.angles.pitch);
+  change("yaw", result.yaw, prior.angles.yaw);
+  if (result.z) {
+    changes += fmt::format(" z {:.4f} -> {:.4f} m ({:+.4f}),", prior.translation.z(), *result.z,
+                           *result.z - prior.translation.z());
+  }
+  if (!changes.empty()) {
+    changes.pop_back();
+    text += "  before -> after [deg]:" + changes + "\n";
+  }
+  return text;
+}
+
 std::string counts_line(const char* title, const std::map<std::string, std::int64_t>& counts) {
   std::string line = fmt::format("  {}:", title);
   for (const auto& [name, count] : counts) line += fmt::format(" {} {},", name, count);
@@ -96,6 +124,7 @@ std::string format_result_summary(const CalibrationResult& result) {
     text += fmt::format("  {:<6} {:9.4f} m    +- {:.4f} m\n", "z", *result.z,
                         result.z_std.value_or(0.0));
   }
+  if (result.prior) text += prior_lines(result);
   text += counts_line("support", result.support);
   text += counts_line("rejected", result.rejections);
   if (result.ok() && !result.reason.empty()) text += fmt::format("  note: {}\n", result.reason);

@@ -67,19 +67,20 @@ int run_inspect(const InspectArguments& arguments) {
   std::vector<TopicStats> topics;
   // Only the times are needed: no topic's data is asked for (MCAP decompresses its chunks anyway).
   const io::BagScanEnd end =
-      bag->scan([](const io::BagTopic&) { return false; }, [&](const io::BagMessage& message) {
-        topics.resize(bag->topics().size());
-        TopicStats& stats = topics[message.topic];
-        if (stats.count == 0) {
-          stats.first_ns = stats.last_ns = message.log_time_ns;
-        } else if (message.log_time_ns < stats.previous_ns) {
-          ++stats.out_of_order;
-        }
-        stats.first_ns = std::min(stats.first_ns, message.log_time_ns);
-        stats.last_ns = std::max(stats.last_ns, message.log_time_ns);
-        stats.previous_ns = message.log_time_ns;
-        ++stats.count;
-      });
+      bag->scan([](const io::BagTopic&) { return false; },
+                [&](const io::BagMessage& message) {
+                  topics.resize(bag->topics().size());
+                  TopicStats& stats = topics[message.topic];
+                  if (stats.count == 0) {
+                    stats.first_ns = stats.last_ns = message.log_time_ns;
+                  } else if (message.log_time_ns < stats.previous_ns) {
+                    ++stats.out_of_order;
+                  }
+                  stats.first_ns = std::min(stats.first_ns, message.log_time_ns);
+                  stats.last_ns = std::max(stats.last_ns, message.log_time_ns);
+                  stats.previous_ns = message.log_time_ns;
+                  ++stats.count;
+                });
   topics.resize(bag->topics().size());
 
   std::int64_t messages = 0;

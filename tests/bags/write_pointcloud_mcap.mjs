@@ -6,9 +6,12 @@
 // and so are the log and publish times; frame "lidar". --layout picks the point fields of a driver
 // (x2car, the default: the PCD's bytes as they are; velodyne, ouster, hesai, livox, f64, no-time:
 // see pointcloud2.mjs). --ins adds the drive's ins.csv as nav_msgs/msg/Odometry on /odom (as
-// write_odometry_mcap.mjs writes it), the messages of both topics in time order.
+// write_odometry_mcap.mjs writes it), the messages of both topics in time order. --tf-static adds
+// one tf2_msgs/msg/TFMessage on /tf_static at the first stamp with the transforms given as
+// PARENT,CHILD,X,Y,Z,ROLL_DEG,PITCH_DEG,YAW_DEG groups separated by ';' (the rotation
+// Rz(yaw) Ry(pitch) Rx(roll)), as a robot_state_publisher latches a car's fixed joints.
 //   node write_pointcloud_mcap.mjs PCD_DIR OUT.mcap [--layout NAME] [--compression zstd|lz4|none]
-//                                  [--topic T] [--ins INS_CSV]
+//                                  [--topic T] [--ins INS_CSV] [--tf-static TRANSFORMS]
 import { McapWriter } from '@mcap/core';
 import { MessageWriter } from '@foxglove/rosmsg2-serialization';
 import * as zstd from '@foxglove/wasm-zstd';
@@ -18,8 +21,9 @@ import { definitionsOf, readInsCsv, odometryMessage } from './ins_odometry.mjs';
 import { layouts, lidarSweeps, pointCloudMessage } from './pointcloud2.mjs';
 
 const usage = 'usage: node write_pointcloud_mcap.mjs PCD_DIR OUT.mcap [--layout NAME] ' +
-              '[--compression zstd|lz4|none] [--topic T] [--ins INS_CSV]';
-const options = { layout: 'x2car', compression: 'zstd', topic: '/points', ins: undefined };
+              '[--compression zstd|lz4|none] [--topic T] [--ins INS_CSV] [--tf-static TRANSFORMS]';
+const options = { layout: 'x2car', compression: 'zstd', topic: '/points', ins: undefined,
+                  'tf-static': undefined };
 const positional = [];
 const args = process.argv.slice(2);
 for (let i = 0; i < args.length; ++i) {
@@ -69,6 +73,23 @@ if (options.ins) {
     messages.push({ stampNs: sample.stampNs, channelId: odom,
                     serialize: () => odomWriter.writeMessage(odometryMessage(sample)) });
   }
+}
+if (options['tf-static']) {
+  const tfWriter = new MessageWriter(definitionsOf('tf2_msgs/TFMessage'));
+  const tf = await channel('/tf_static', 'tf2_msgs/msg/TFMessage');
+  const first = lidarSweeps(pcdDir)[0];
+  const transforms = options['tf-static'].split(';').map((group) => {
+    const [parent, child, ...numbers] = group.split(',');
+    const [x, y, z, roll, pitch, yaw] = numbers.map(Number).map((v, i) => (i < 3 ? v : v * Math.PI / 180));
+    const [cr, sr, cp, sp, cy, sy] = [Math.cos(roll / 2), Math.sin(roll / 2), Math.cos(pitch / 2),
+                                      Math.sin(pitch / 2), Math.cos(yaw / 2), Math.sin(yaw / 2)];
+    const rotation = { w: cr * cp * cy + sr * sp * sy, x: sr * cp * cy - cr * sp * sy,
+                       y: cr * sp * cy + sr * cp * sy, z: cr * cp * sy - sr * sp * cy };
+    return { header: { stamp: { sec: first.sec, nanosec: first.nanosec }, frame_id: parent },
+             child_frame_id: child, transform: { translation: { x, y, z }, rotation } };
+  });
+  messages.push({ stampNs: first.stampNs, channelId: tf,
+                  serialize: () => tfWriter.writeMessage({ transforms }) });
 }
 const cloudWriter = new MessageWriter(definitionsOf('sensor_msgs/PointCloud2'));
 for (const sweep of lidarSweeps(pcdDir)) {

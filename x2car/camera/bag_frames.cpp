@@ -130,9 +130,9 @@ cv::Mat decode_compressed_image(std::string_view bytes, io::RosEncoding encoding
     throw InputError(source, 0, "data", std::string("cannot be decoded: ") + error.what());
   }
   if (grey.empty()) {
-    throw InputError(source, 0, "data",
-                     fmt::format("the '{}' image cannot be decoded (x2car reads JPEG and PNG)",
-                                 format));
+    throw InputError(
+        source, 0, "data",
+        fmt::format("the '{}' image cannot be decoded (x2car reads JPEG and PNG)", format));
   }
   return grey;
 }
@@ -156,6 +156,7 @@ BagFrames camera_frames_from_bag(const std::filesystem::path& path,
   std::vector<std::vector<FrameMessage>> messages;
   std::map<std::size_t, std::string> first_info;  // CameraInfo topics: their first message
   std::vector<std::size_t> counts;
+  std::map<std::size_t, std::string> frame_ids;  // per image topic: its first header.frame_id
   bag->scan(
       [&](const io::BagTopic& topic) {
         return chosen_topic(topic) || io::ros_type_is(topic.type, kCameraInfo);
@@ -175,6 +176,7 @@ BagFrames camera_frames_from_bag(const std::filesystem::path& path,
         const std::string source = fmt::format("{} ({} message {})", file, topic.name, count);
         const io::RosHeader header =
             io::RosMessageReader(message.data, io::ros_encoding_of(topic, path), source).header();
+        frame_ids.emplace(message.topic, header.frame_id);
         messages[message.topic].push_back(
             {.stamp_ns = header.stamp_ns, .ref = message.ref, .count = count});
       });
@@ -207,6 +209,7 @@ BagFrames camera_frames_from_bag(const std::filesystem::path& path,
 
   BagFrames out;
   out.topic = topic.name;
+  out.frame_id = frame_ids.contains(*chosen) ? frame_ids.at(*chosen) : std::string();
   // The CameraInfo topic whose namespace holds the image topic, the deepest one.
   std::optional<std::size_t> info;
   for (const auto& [index, bytes] : first_info) {
@@ -218,18 +221,17 @@ BagFrames camera_frames_from_bag(const std::filesystem::path& path,
     const io::BagTopic& info_topic = bag->topics()[*info];
     out.info_topic = info_topic.name;
     const bool rectified = topic.name.find("image_rect") != std::string::npos;
-    out.intrinsics = io::decode_camera_info(first_info.at(*info),
-                                            io::ros_encoding_of(info_topic, path),
-                                            fmt::format("{} ({} message 1)", file, info_topic.name),
-                                            rectified)
-                         .intrinsics;
+    out.intrinsics =
+        io::decode_camera_info(first_info.at(*info), io::ros_encoding_of(info_topic, path),
+                               fmt::format("{} ({} message 1)", file, info_topic.name), rectified)
+            .intrinsics;
   }
   for (std::size_t i = 0; i < frames.size(); ++i) {
     if (i > 0 && frames[i].stamp_ns == frames[i - 1].stamp_ns) {
-      throw InputError(file, 0, topic.name,
-                       fmt::format("messages {} and {} have one header.stamp ({} s)",
-                                   frames[i - 1].count, frames[i].count,
-                                   io::stamp_seconds(frames[i].stamp_ns)));
+      throw InputError(
+          file, 0, topic.name,
+          fmt::format("messages {} and {} have one header.stamp ({} s)", frames[i - 1].count,
+                      frames[i].count, io::stamp_seconds(frames[i].stamp_ns)));
     }
     out.source.times.push_back(io::stamp_seconds(frames[i].stamp_ns));
   }

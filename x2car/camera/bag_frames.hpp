@@ -26,6 +26,7 @@ struct BagFrameOptions {
 struct BagFrames {
   CameraFrameSource source;  // times from header.stamp [s] (Unix stamps kept as they are)
   std::string topic;
+  std::string frame_id;  // the first image's header.frame_id
   // From the CameraInfo topic of the image topic's namespace, when the bag has one.
   std::optional<core::CameraIntrinsics> intrinsics;
   std::string info_topic;

@@ -25,6 +25,16 @@ const char* to_string(CalibrationStatus status);
 // Parses "ok" / "insufficient_data" / "unreliable"; throws std::invalid_argument otherwise.
 CalibrationStatus calibration_status_from_string(const std::string& text);
 
+// The mounting a log's own transforms gave before calibrating (a bag's tf_static: issue 17), shown
+// beside the calibrated one as "before -> after".
+struct MountingPrior {
+  std::string parent;  // e.g. "base_link"
+  std::string child;   // the sensor's frame, e.g. "velodyne" (camera: its body frame)
+  std::string source;  // where it came from, e.g. "run.bag /tf_static"
+  EulerAngles angles;  // of parent_from_child [rad]
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();  // [m]
+};
+
 // A per-sample series kept for plots, e.g. track heading and device yaw over time.
 struct Series {
   std::string name;           // e.g. "track_heading"
@@ -62,6 +72,7 @@ struct CalibrationResult {
   // {"velocity_method_yaw_deg": 2.013, "track_residual_std_m": 0.021}.
   std::map<std::string, double> diagnostics;
   std::vector<Series> series;
+  std::optional<MountingPrior> prior;  // when the input carried one
 
   // Wall time the calibration took [s]; the one field that differs between identical runs
   // (io::ResultJsonOptions::include_timing leaves it out of the JSON).

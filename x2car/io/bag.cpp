@@ -61,9 +61,8 @@ class McapBag final : public BagFile {
       out.topic = topic->second;
       out.log_time_ns = static_cast<std::int64_t>(message.log_time_ns);
       if (topic_wanted[out.topic]) out.data = message.data;
-      out.ref = {.part = message.chunk_offset,
-                 .at = message.data_offset,
-                 .size = message.data.size()};
+      out.ref = {
+          .part = message.chunk_offset, .at = message.data_offset, .size = message.data.size()};
       on_message(out);
     };
     const McapReadEnd end =
@@ -98,9 +97,9 @@ const char* bag_container_name(BagContainer container) {
 }
 
 double stamp_seconds(std::int64_t stamp_ns) {
-  const std::string text = fmt::format("{}{}.{:09}", stamp_ns < 0 ? "-" : "",
-                                       std::abs(stamp_ns / 1'000'000'000LL),
-                                       std::abs(stamp_ns % 1'000'000'000LL));
+  const std::string text =
+      fmt::format("{}{}.{:09}", stamp_ns < 0 ? "-" : "", std::abs(stamp_ns / 1'000'000'000LL),
+                  std::abs(stamp_ns % 1'000'000'000LL));
   double seconds = 0.0;
   std::from_chars(text.data(), text.data() + text.size(), seconds);
   return seconds;

@@ -31,7 +31,8 @@ constexpr std::int64_t kUnixStampNs = 100'000'000LL * 1'000'000'000LL;  // 10^8 
 
 struct StampedRecord {
   std::int64_t stamp_ns = 0;
-  InsRecord record;  // time unset
+  std::string frame_id;  // Odometry's child frame: the device's
+  InsRecord record;      // time unset
 };
 
 double finite(double value, const std::string& source, const char* field) {
@@ -41,7 +42,8 @@ double finite(double value, const std::string& source, const char* field) {
 
 // geometry_msgs/Pose (`prefix` names it in messages, e.g. "pose.pose"): the position, and the
 // orientation as world_from_device.
-std::pair<Eigen::Vector3d, Eigen::Matrix3d> read_pose(RosMessageReader& cdr, const std::string& prefix,
+std::pair<Eigen::Vector3d, Eigen::Matrix3d> read_pose(RosMessageReader& cdr,
+                                                      const std::string& prefix,
                                                       const std::string& source) {
   const auto value = [&](const char* name) {
     const std::string field = prefix + name;
@@ -71,7 +73,7 @@ StampedRecord decode_odometry(std::string_view bytes, RosEncoding encoding,
   RosMessageReader cdr(bytes, encoding, source);
   StampedRecord out;
   out.stamp_ns = cdr.header().stamp_ns;
-  cdr.string("child_frame_id");
+  out.frame_id = cdr.string("child_frame_id");
   const auto [position, world_from_device] = read_pose(cdr, "pose.pose", source);
   cdr.skip_float64s(36, "pose.covariance");
   Eigen::Vector3d linear;
@@ -123,12 +125,15 @@ std::optional<std::pair<std::int64_t, GeodeticPosition>> decode_fix(RosMessageRe
 // orientation), ... Unset for a message without an orientation.
 struct ImuOrientation {
   std::int64_t stamp_ns = 0;
+  std::string frame_id;
   Eigen::Quaterniond local_level_from_imu;
 };
 
 std::optional<ImuOrientation> decode_imu(RosMessageReader& message) {
   ImuOrientation out;
-  out.stamp_ns = message.header().stamp_ns;
+  const RosHeader header = message.header();
+  out.stamp_ns = header.stamp_ns;
+  out.frame_id = header.frame_id;
   const double qx = message.float64("orientation.x");
   const double qy = message.float64("orientation.y");
   const double qz = message.float64("orientation.z");
@@ -265,15 +270,15 @@ InsLog read_ins_bag(const std::filesystem::path& path, const BagInsOptions& opti
   const auto index_of = [&](const BagTopic* topic) {
     return static_cast<std::size_t>(topic - bag->topics().data());
   };
-  if (options.topic && (named == nullptr || !(is_pose_type(named->type) ||
-                                              ros_type_is(named->type, kNavSatFixType)))) {
+  if (options.topic && (named == nullptr ||
+                        !(is_pose_type(named->type) || ros_type_is(named->type, kNavSatFixType)))) {
     throw InputError(
         file, 0, *options.topic,
         named == nullptr
             ? fmt::format("no such topic; the pose topics: {}; the NavSatFix topics: {}",
                           names_of(pose_topics), names_of(fix_topics))
-            : fmt::format("is {}, not {}, {} or {}", named->type, kOdometryType,
-                          kPoseStampedType, kNavSatFixType));
+            : fmt::format("is {}, not {}, {} or {}", named->type, kOdometryType, kPoseStampedType,
+                          kNavSatFixType));
   }
 
   InsLog log;
@@ -281,22 +286,23 @@ InsLog read_ins_bag(const std::filesystem::path& path, const BagInsOptions& opti
   std::vector<StampedRecord> stamped;
   const BagTopic* chosen = nullptr;
   if (named != nullptr ? is_pose_type(named->type) : !pose_topics.empty()) {
-    chosen = named != nullptr ? named
-                              : pick_topic(pose_topics, std::nullopt, file, "pose", "--topic");
+    chosen =
+        named != nullptr ? named : pick_topic(pose_topics, std::nullopt, file, "pose", "--topic");
     stamped = std::move(data[index_of(chosen)].poses);
+    if (!stamped.empty()) log.frame_id = stamped.front().frame_id;
   } else if (named != nullptr || !fix_topics.empty()) {
     // GNSS fixes with an IMU's orientation: what a car without an INS driver records.
     chosen = named != nullptr ? named
                               : pick_topic(fix_topics, std::nullopt, file, "NavSatFix", "--topic");
     const BagTopic* imu = pick_topic(imu_topics, options.imu_topic, file, "Imu", "--imu-topic");
     if (imu == nullptr) {
-      throw InputError(file, 0, options.imu_topic.value_or(chosen->name),
-                       options.imu_topic
-                           ? fmt::format("no such Imu topic; the Imu topics: {}",
-                                         names_of(imu_topics))
-                           : fmt::format("{} has no attitude: the bag needs a {} topic with an "
-                                         "orientation beside it",
-                                         chosen->name, kImuType));
+      throw InputError(
+          file, 0, options.imu_topic.value_or(chosen->name),
+          options.imu_topic
+              ? fmt::format("no such Imu topic; the Imu topics: {}", names_of(imu_topics))
+              : fmt::format("{} has no attitude: the bag needs a {} topic with an "
+                            "orientation beside it",
+                            chosen->name, kImuType));
     }
     TopicData& imu_data = data[index_of(imu)];
     if (imu_data.orientations.empty()) {
@@ -305,6 +311,7 @@ InsLog read_ins_bag(const std::filesystem::path& path, const BagInsOptions& opti
                                    "(orientation_covariance[0] = -1)",
                                    imu_data.count));
     }
+    log.frame_id = imu_data.orientations.front().frame_id;
     stamped = fixes_with_orientation(std::move(data[index_of(chosen)].fixes),
                                      std::move(imu_data.orientations), log.enu_origin);
     if (data[index_of(chosen)].without > 0) {
@@ -313,8 +320,7 @@ InsLog read_ins_bag(const std::filesystem::path& path, const BagInsOptions& opti
     }
   } else {
     throw InputError(file, fmt::format("holds no {}, {} or {} (with {}) topic for a GNSS/INS log",
-                                       kOdometryType, kPoseStampedType, kNavSatFixType,
-                                       kImuType));
+                                       kOdometryType, kPoseStampedType, kNavSatFixType, kImuType));
   }
   if (stamped.empty()) {
     throw InputError(file, 0, chosen->name,

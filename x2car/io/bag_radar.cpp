@@ -35,8 +35,11 @@ struct StampedDetection {
   RadarDetection detection;  // time unset
 };
 
-void decode_scan(RosMessageReader& message, std::vector<StampedDetection>& out) {
-  const std::int64_t stamp_ns = message.header().stamp_ns;
+void decode_scan(RosMessageReader& message, std::vector<StampedDetection>& out,
+                 std::string& frame_id) {
+  const RosHeader header = message.header();
+  const std::int64_t stamp_ns = header.stamp_ns;
+  if (frame_id.empty()) frame_id = header.frame_id;
   const std::uint32_t count = message.uint32("returns");
   for (std::uint32_t i = 0; i < count; ++i) {
     const std::string& source = message.source();
@@ -44,8 +47,8 @@ void decode_scan(RosMessageReader& message, std::vector<StampedDetection>& out) 
     detection.range = finite(message.float32("returns.range"), source, "returns.range");
     detection.azimuth = finite(message.float32("returns.azimuth"), source, "returns.azimuth");
     message.float32("returns.elevation");
-    detection.range_rate = finite(message.float32("returns.doppler_velocity"), source,
-                                  "returns.doppler_velocity");
+    detection.range_rate =
+        finite(message.float32("returns.doppler_velocity"), source, "returns.doppler_velocity");
     detection.rcs_dbsm = message.float32("returns.amplitude");
     if (!std::isfinite(*detection.rcs_dbsm)) detection.rcs_dbsm.reset();
     detection.x = detection.range * std::cos(detection.azimuth);
@@ -55,8 +58,10 @@ void decode_scan(RosMessageReader& message, std::vector<StampedDetection>& out) 
 }
 
 void decode_tracks(RosMessageReader& message, std::map<std::string, int>& track_ids,
-                   std::vector<StampedDetection>& out) {
-  const std::int64_t stamp_ns = message.header().stamp_ns;
+                   std::vector<StampedDetection>& out, std::string& frame_id) {
+  const RosHeader header = message.header();
+  const std::int64_t stamp_ns = header.stamp_ns;
+  if (frame_id.empty()) frame_id = header.frame_id;
   const std::uint32_t count = message.uint32("tracks");
   const std::string& source = message.source();
   for (std::uint32_t i = 0; i < count; ++i) {
@@ -83,14 +88,14 @@ void decode_tracks(RosMessageReader& message, std::map<std::string, int>& track_
 
 RadarLog read_radar_bag(const std::filesystem::path& path, const BagRadarOptions& options) {
   const std::string file = path.string();
-  const std::unique_ptr<BagFile> bag =
-      open_bag(path, {.allow_truncated = options.allow_truncated});
+  const std::unique_ptr<BagFile> bag = open_bag(path, {.allow_truncated = options.allow_truncated});
   const auto chosen_topic = [&](const BagTopic& topic) {
     return options.topic ? topic.name == *options.topic : is_radar_type(topic.type);
   };
   std::vector<StampedDetection> stamped;
   std::map<std::string, int> track_ids;
   std::vector<std::int64_t> counts;
+  std::string frame_id;
   bag->scan(chosen_topic, [&](const BagMessage& message) {
     counts.resize(bag->topics().size(), 0);
     const std::int64_t count = ++counts[message.topic];
@@ -99,9 +104,9 @@ RadarLog read_radar_bag(const std::filesystem::path& path, const BagRadarOptions
     RosMessageReader reader(message.data, ros_encoding_of(topic, path),
                             fmt::format("{} ({} message {})", file, topic.name, count));
     if (ros_type_is(topic.type, kRadarScan)) {
-      decode_scan(reader, stamped);
+      decode_scan(reader, stamped, frame_id);
     } else {
-      decode_tracks(reader, track_ids, stamped);
+      decode_tracks(reader, track_ids, stamped, frame_id);
     }
   });
 
@@ -112,12 +117,12 @@ RadarLog read_radar_bag(const std::filesystem::path& path, const BagRadarOptions
     if (chosen_topic(topic) && chosen == nullptr) chosen = &topic;
   }
   if (options.topic && (chosen == nullptr || !is_radar_type(chosen->type))) {
-    throw InputError(file, 0, *options.topic,
-                     chosen == nullptr
-                         ? fmt::format("no such topic; the radar topics: {}",
-                                       radar_topics.empty() ? "none" : join(radar_topics))
-                         : fmt::format("is {}, not {} or {}", chosen->type, kRadarScan,
-                                       kRadarTracks));
+    throw InputError(
+        file, 0, *options.topic,
+        chosen == nullptr
+            ? fmt::format("no such topic; the radar topics: {}",
+                          radar_topics.empty() ? "none" : join(radar_topics))
+            : fmt::format("is {}, not {} or {}", chosen->type, kRadarScan, kRadarTracks));
   }
   if (!options.topic && radar_topics.size() != 1) {
     throw InputError(file, radar_topics.empty()
@@ -130,15 +135,16 @@ RadarLog read_radar_bag(const std::filesystem::path& path, const BagRadarOptions
 
   RadarLog log;
   log.layout = RadarLayout::kBag;
+  log.frame_id = frame_id;
   const std::int64_t first_ns = stamped.front().stamp_ns;
   const bool unix_clock = first_ns >= kUnixStampNs;
   if (unix_clock) log.start_unix_time = static_cast<double>(first_ns) * 1e-9;
   for (StampedDetection& entry : stamped) {
     // As the GNSS/INS bag reader counts its records (bag_ins.cpp).
-    entry.detection.time =
-        unix_clock ? seconds_between(entry.stamp_ns, first_ns)
-                   : static_cast<double>(entry.stamp_ns / 1'000'000'000LL) +
-                         static_cast<double>(entry.stamp_ns % 1'000'000'000LL) * 1e-9;
+    entry.detection.time = unix_clock
+                               ? seconds_between(entry.stamp_ns, first_ns)
+                               : static_cast<double>(entry.stamp_ns / 1'000'000'000LL) +
+                                     static_cast<double>(entry.stamp_ns % 1'000'000'000LL) * 1e-9;
     log.detections.push_back(entry.detection);
   }
   return log;

@@ -60,8 +60,8 @@ class Ros2SqliteBag final : public BagFile {
     for (const BagTopic& topic : topics_) topic_wanted.push_back(!wanted || wanted(topic));
     for (std::size_t part = 0; part < files_.size(); ++part) {
       // The data column is read only for wanted topics: SQLite loads a blob when asked for it.
-      Statement messages =
-          prepare(part, "SELECT id, topic_id, timestamp, data FROM messages ORDER BY timestamp, id");
+      Statement messages = prepare(
+          part, "SELECT id, topic_id, timestamp, data FROM messages ORDER BY timestamp, id");
       while (step(part, messages.get())) {
         const std::int64_t topic_id = sqlite3_column_int64(messages.get(), 1);
         const auto topic = topic_of_id_[part].find(topic_id);
@@ -122,8 +122,8 @@ class Ros2SqliteBag final : public BagFile {
     const int code = sqlite3_step(statement);
     if (code == SQLITE_ROW) return true;
     if (code == SQLITE_DONE) return false;
-    throw InputError(files_[part].string(), fmt::format("cannot read it: {}",
-                                                        sqlite3_errmsg(databases_[part].get())));
+    throw InputError(files_[part].string(),
+                     fmt::format("cannot read it: {}", sqlite3_errmsg(databases_[part].get())));
   }
 
   static std::string text(sqlite3_stmt* statement, int column) {
@@ -134,9 +134,9 @@ class Ros2SqliteBag final : public BagFile {
   static std::string_view blob(sqlite3_stmt* statement, int column) {
     const void* data = sqlite3_column_blob(statement, column);
     const int size = sqlite3_column_bytes(statement, column);
-    return data == nullptr ? std::string_view()
-                           : std::string_view(static_cast<const char*>(data),
-                                              static_cast<std::size_t>(size));
+    return data == nullptr
+               ? std::string_view()
+               : std::string_view(static_cast<const char*>(data), static_cast<std::size_t>(size));
   }
 
   std::vector<std::filesystem::path> files_;
@@ -157,7 +157,8 @@ Ros2Metadata read_metadata(const std::filesystem::path& folder) {
   const YAML::Node root = load_yaml_mapping(read_text_file(file), source);
   const YAML::Node information = root["rosbag2_bagfile_information"];
   if (!information.IsMap()) {
-    throw InputError(source, 0, "rosbag2_bagfile_information", "missing: not a rosbag2 metadata file");
+    throw InputError(source, 0, "rosbag2_bagfile_information",
+                     "missing: not a rosbag2 metadata file");
   }
   Ros2Metadata metadata;
   try {
@@ -191,16 +192,16 @@ std::unique_ptr<BagFile> open_ros2_bag(const std::filesystem::path& path,
   const Ros2Metadata metadata = read_metadata(path);
   if (metadata.storage == "mcap") {
     if (metadata.files.size() != 1) {
-      throw InputError((path / "metadata.yaml").string(), 0, "relative_file_paths",
-                       fmt::format("names {} MCAP files; give x2car one of them",
-                                   metadata.files.size()));
+      throw InputError(
+          (path / "metadata.yaml").string(), 0, "relative_file_paths",
+          fmt::format("names {} MCAP files; give x2car one of them", metadata.files.size()));
     }
     return open_mcap_bag(metadata.files.front(), options);
   }
   if (metadata.storage != "sqlite3") {
-    throw InputError((path / "metadata.yaml").string(), 0, "storage_identifier",
-                     fmt::format("'{}': x2car reads the sqlite3 and mcap storages",
-                                 metadata.storage));
+    throw InputError(
+        (path / "metadata.yaml").string(), 0, "storage_identifier",
+        fmt::format("'{}': x2car reads the sqlite3 and mcap storages", metadata.storage));
   }
   return std::make_unique<Ros2SqliteBag>(path, metadata.files);
 }

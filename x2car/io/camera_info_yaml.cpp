@@ -203,8 +203,7 @@ DistortionModel camera_info_distortion_model(std::string_view name) {
       fmt::format("unknown distortion model '{}'; expected plumb_bob or equidistant", name));
 }
 
-void set_camera_info_distortion(CameraIntrinsics& c, DistortionModel model,
-                                std::vector<double> d) {
+void set_camera_info_distortion(CameraIntrinsics& c, DistortionModel model, std::vector<double> d) {
   if (model == DistortionModel::kPlumbBob) {
     if (d.size() == 4) d.push_back(0.0);
     if (std::all_of(d.begin(), d.end(), [](double v) { return v == 0.0; })) {

@@ -98,9 +98,8 @@ InsLog read_ins_log(const fs::path& path, const InsReadOptions& options) {
   check_exists(path);
   if (options.format == InsFormat::kBag ||
       (options.format == InsFormat::kAuto && detect_ins_format(path) == InsFormat::kBag)) {
-    return read_ins_bag(path, {.topic = options.topic,
-                               .imu_topic = options.imu_topic,
-                               .allow_truncated = false});
+    return read_ins_bag(
+        path, {.topic = options.topic, .imu_topic = options.imu_topic, .allow_truncated = false});
   }
   if (options.format == InsFormat::kOxts ||
       (options.format == InsFormat::kAuto && detect_ins_format(path) == InsFormat::kOxts)) {

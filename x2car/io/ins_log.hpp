@@ -20,8 +20,8 @@ namespace x2car::io {
 
 enum class InsFormat { kAuto, kNovatel, kCsv, kOxts, kBag };
 
-// "auto", "novatel", "csv", "oxts", "bag" (MCAP, ROS 1 or ROS 2: bag.hpp); parsing throws std::invalid_argument listing the
-// names.
+// "auto", "novatel", "csv", "oxts", "bag" (MCAP, ROS 1 or ROS 2: bag.hpp); parsing throws
+// std::invalid_argument listing the names.
 const char* to_string(InsFormat format);
 InsFormat ins_format_from_string(const std::string& text);
 std::vector<std::string> ins_format_names();
@@ -49,6 +49,8 @@ struct InsLog {
   // What the CLI should print as warnings, each naming the file and line: every time gap and the
   // generic CSV's ignored header columns.
   std::vector<std::string> notices;
+  // The device's frame: a bag's Odometry child_frame_id or Imu frame_id; empty for files.
+  std::string frame_id;
 };
 
 // The form of `path` as kAuto would read it (reads only the file's first line with content).

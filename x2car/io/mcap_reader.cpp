@@ -337,8 +337,8 @@ std::string read_mcap_message(const std::filesystem::path& path, std::uint64_t c
     std::string bytes(count, '\0');
     stream.seekg(static_cast<std::streamoff>(at));
     if (!stream.read(bytes.data(), static_cast<std::streamsize>(count))) {
-      throw InputError(file, fmt::format("cannot read {} at byte {} again (the file changed?)",
-                                         what, at));
+      throw InputError(
+          file, fmt::format("cannot read {} at byte {} again (the file changed?)", what, at));
     }
     return bytes;
   };

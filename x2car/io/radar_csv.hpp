@@ -69,6 +69,7 @@ struct RadarLog {
   // What the CLI should print as warnings, each naming the file and line: header columns the
   // reader ignored.
   std::vector<std::string> notices;
+  std::string frame_id;  // the sensor's frame (a bag's header.frame_id); empty for files
 };
 
 std::string to_string(RadarLayout layout);  // "conti", "delphi", "generic", "bag"

@@ -260,6 +260,40 @@ void read_std_m(const Json& object, const JsonContext& context, CalibrationResul
   if (std::optional<double> z_std = optional_number(*std_m, "z", inner)) result.z_std = z_std;
 }
 
+Json prior_to_json(const CalibrationResult& result) {
+  const MountingPrior& prior = *result.prior;
+  Json json = Json::object();
+  json["parent"] = prior.parent;
+  json["child"] = prior.child;
+  json["source"] = prior.source;
+  json["roll_deg"] = degrees(prior.angles.roll, result, "prior.roll");
+  json["pitch_deg"] = degrees(prior.angles.pitch, result, "prior.pitch");
+  json["yaw_deg"] = degrees(prior.angles.yaw, result, "prior.yaw");
+  json["x_m"] = metres(prior.translation.x(), result, "prior.x");
+  json["y_m"] = metres(prior.translation.y(), result, "prior.y");
+  json["z_m"] = metres(prior.translation.z(), result, "prior.z");
+  return json;
+}
+
+std::optional<MountingPrior> prior_from_json(const Json& object, const JsonContext& context) {
+  const Json* json = object_member(object, "prior", context);
+  if (json == nullptr) return std::nullopt;
+  const JsonContext inner = context.nested("prior");
+  MountingPrior prior;
+  prior.parent = string_member(*json, "parent", inner, true);
+  prior.child = string_member(*json, "child", inner, true);
+  prior.source = string_member(*json, "source", inner, false);
+  const auto number = [&](const char* name) {
+    const std::optional<double> value = optional_number(*json, name, inner);
+    if (!value) type_error(inner, name, "a number", Json());
+    return *value;
+  };
+  prior.angles = {rad_from_deg(number("roll_deg")), rad_from_deg(number("pitch_deg")),
+                  rad_from_deg(number("yaw_deg"))};
+  prior.translation = {number("x_m"), number("y_m"), number("z_m")};
+  return prior;
+}
+
 CalibrationResult read_result(const Json& json, const JsonContext& context) {
   if (!json.is_object()) type_error(context, "", "an object", json);
   CalibrationResult result;
@@ -278,6 +312,7 @@ CalibrationResult read_result(const Json& json, const JsonContext& context) {
   result.support = counts_from_json(json, "support", context);
   result.rejections = counts_from_json(json, "rejections", context);
   result.diagnostics = diagnostics_from_json(json, context);
+  result.prior = prior_from_json(json, context);
   result.seconds = optional_number(json, "seconds", context).value_or(0.0);
   result.series = series_list_from_json(json, context);
   return result;
@@ -310,6 +345,7 @@ Json result_to_json(const CalibrationResult& result, const ResultJsonOptions& op
   json["support"] = counts_to_json(result.support);
   json["rejections"] = counts_to_json(result.rejections);
   json["diagnostics"] = diagnostics_to_json(result);
+  if (result.prior) json["prior"] = prior_to_json(result);
   if (options.include_timing) json["seconds"] = checked(result.seconds, result, "seconds");
   if (options.include_series) json["series"] = series_to_json(result.series);
   return json;

@@ -110,6 +110,27 @@ TEST(ResultJson, WriterOutputReadsBack) {
   expect_same_result(parse_result_json(format_result_json(ins_result()), "r"), ins_result());
 }
 
+// A bag's tf prior (issue 17) is written in degrees and metres and reads back.
+TEST(ResultJson, PriorReadsBack) {
+  CalibrationResult result = lidar_result();
+  result.prior = MountingPrior{"base_link",
+                               "velodyne",
+                               "run.bag /tf_static",
+                               {rad_from_deg(0.5), rad_from_deg(-2.0), rad_from_deg(90.0)},
+                               Eigen::Vector3d(1.2, 0.0, 1.8)};
+  const Json json = result_to_json(result);
+  EXPECT_EQ(json.at("prior").at("child"), "velodyne");
+  EXPECT_NEAR(json.at("prior").at("yaw_deg").get<double>(), 90.0, kExact);
+  EXPECT_NEAR(json.at("prior").at("z_m").get<double>(), 1.8, kExact);
+  const CalibrationResult back = parse_result_json(format_result_json(result), "r");
+  ASSERT_TRUE(back.prior.has_value());
+  EXPECT_EQ(back.prior->parent, "base_link");
+  EXPECT_EQ(back.prior->source, "run.bag /tf_static");
+  EXPECT_NEAR(back.prior->angles.pitch, rad_from_deg(-2.0), 1e-15);
+  EXPECT_NEAR(back.prior->translation.x(), 1.2, 1e-15);
+  EXPECT_FALSE(parse_result_json(format_result_json(lidar_result()), "r").prior.has_value());
+}
+
 TEST(ResultJson, ShapeFollowsTheDesign) {
   const Json json = result_to_json(lidar_result());
   EXPECT_EQ(json.at("sensor"), "lidar");

@@ -56,10 +56,10 @@ StampedCameraInfo decode_camera_info(std::string_view bytes, RosEncoding encodin
       c.cx = k[2];
       c.fy = k[4];
       c.cy = k[5];
-      set_camera_info_distortion(
-          c, model_name.empty() ? core::DistortionModel::kPlumbBob
-                                : camera_info_distortion_model(model_name),
-          std::move(d));
+      set_camera_info_distortion(c,
+                                 model_name.empty() ? core::DistortionModel::kPlumbBob
+                                                    : camera_info_distortion_model(model_name),
+                                 std::move(d));
     }
     c.Check();
   } catch (const std::invalid_argument& error) {

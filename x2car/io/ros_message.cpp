@@ -9,8 +9,7 @@
 
 namespace x2car::io {
 
-RosMessageReader::RosMessageReader(std::string_view bytes, RosEncoding encoding,
-                                   std::string source)
+RosMessageReader::RosMessageReader(std::string_view bytes, RosEncoding encoding, std::string source)
     : data_(bytes), encoding_(encoding), source_(std::move(source)) {
   if (encoding_ == RosEncoding::kRos1) return;
   if (bytes.size() < 4 || bytes[0] != 0 || (bytes[1] != 0 && bytes[1] != 1)) {

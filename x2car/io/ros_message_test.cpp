@@ -67,7 +67,8 @@ TEST(RosMessageReader, ErrorsNameTheField) {
     EXPECT_NE(std::string(error.what()).find("/odom message 3"), std::string::npos);
   }
   EXPECT_THROW(RosMessageReader(std::string("\x01\x02", 2), RosEncoding::kCdr, "m"), InputError);
-  EXPECT_THROW(RosMessageReader(std::string("\x00\x07\x00\x00", 4), RosEncoding::kCdr, "m"), InputError);
+  EXPECT_THROW(RosMessageReader(std::string("\x00\x07\x00\x00", 4), RosEncoding::kCdr, "m"),
+               InputError);
 }
 
 // ROS 1: packed little-endian, strings without a NUL, Header with its seq.
@@ -76,12 +77,12 @@ TEST(RosMessageReader, ReadsRos1PackedFields) {
   const auto put32 = [&](std::uint32_t value) {
     for (int i = 0; i < 4; ++i) bytes += static_cast<char>((value >> (8 * i)) & 0xff);
   };
-  put32(17);          // seq
-  put32(12);          // stamp.sec
-  put32(300000000);   // stamp.nsec
+  put32(17);         // seq
+  put32(12);         // stamp.sec
+  put32(300000000);  // stamp.nsec
   put32(5);
-  bytes += "lidar";   // frame_id, no NUL
-  bytes += '\x01';    // a bool, then a float64 right after it (no alignment)
+  bytes += "lidar";  // frame_id, no NUL
+  bytes += '\x01';   // a bool, then a float64 right after it (no alignment)
   const auto value = std::bit_cast<std::uint64_t>(-2.5);
   for (int i = 0; i < 8; ++i) bytes += static_cast<char>((value >> (8 * i)) & 0xff);
   RosMessageReader reader(bytes, RosEncoding::kRos1, "run.bag (/points message 1)");

@@ -112,7 +112,8 @@ Layout read_layout(RosMessageReader& message, const std::string& source) {
   layout.width = message.uint32("width");
   const std::uint32_t field_count = message.uint32("fields");
   if (field_count > 1024) {
-    throw InputError(source, 0, "fields", fmt::format("{} fields: not a point layout", field_count));
+    throw InputError(source, 0, "fields",
+                     fmt::format("{} fields: not a point layout", field_count));
   }
   for (std::uint32_t i = 0; i < field_count; ++i) {
     Field field;
@@ -121,9 +122,9 @@ Layout read_layout(RosMessageReader& message, const std::string& source) {
     field.datatype = message.uint8("fields.datatype");
     const std::uint32_t count = message.uint32("fields.count");
     if (size_of(field.datatype) == 0) {
-      throw InputError(source, 0, "fields." + field.name,
-                       fmt::format("datatype {} is not a PointField type (1 to 8)",
-                                   field.datatype));
+      throw InputError(
+          source, 0, "fields." + field.name,
+          fmt::format("datatype {} is not a PointField type (1 to 8)", field.datatype));
     }
     (void)count;  // arrays (count > 1) are allowed for fields x2car does not use
     layout.fields.push_back(std::move(field));
@@ -180,8 +181,7 @@ TimeScale time_scale(const Layout& layout, const Field& field, std::int64_t stam
       const double value = value_of(point, field, layout.big_endian);
       if (!std::isfinite(value)) continue;
       farthest_as_seconds = std::max(farthest_as_seconds, std::abs(value - stamp_s));
-      farthest_as_nanoseconds =
-          std::max(farthest_as_nanoseconds, std::abs(value * 1e-9 - stamp_s));
+      farthest_as_nanoseconds = std::max(farthest_as_nanoseconds, std::abs(value * 1e-9 - stamp_s));
     }
   }
   if (farthest_as_seconds <= kWithin) return {.scale = 1.0, .offset = stamp_s};

@@ -96,11 +96,14 @@ TEST(DecodePointCloud2, ReadsX2carsOwnLayoutInBothEncodings) {
       put_at<std::uint16_t>(data, 22 * i + 16, static_cast<std::uint16_t>(7 + i));
       put_at<float>(data, 22 * i + 18, 0.05f * static_cast<float>(i));
     }
-    const std::string bytes = CloudBytes(encoding).message(
-        kStampNs, 1, 2,
-        {{"x", 0, 7}, {"y", 4, 7}, {"z", 8, 7}, {"intensity", 12, 7}, {"ring", 16, 4},
-         {"t", 18, 7}},
-        22, data);
+    const std::string bytes = CloudBytes(encoding).message(kStampNs, 1, 2,
+                                                           {{"x", 0, 7},
+                                                            {"y", 4, 7},
+                                                            {"z", 8, 7},
+                                                            {"intensity", 12, 7},
+                                                            {"ring", 16, 4},
+                                                            {"t", 18, 7}},
+                                                           22, data);
     const StampedPointCloud decoded = decode_point_cloud2(bytes, encoding, "m");
     EXPECT_EQ(decoded.header.stamp_ns, kStampNs);
     EXPECT_EQ(decoded.header.frame_id, "lidar");
@@ -125,9 +128,13 @@ TEST(DecodePointCloud2, ReadsOustersNanosecondOffsetsRowByRow) {
   }
   const std::string bytes = CloudBytes(RosEncoding::kCdr)
                                 .message(kStampNs, 2, 1,
-                                         {{"x", 0, 7}, {"y", 4, 7}, {"z", 8, 7},
-                                          {"intensity", 16, 7}, {"t", 20, 6},
-                                          {"reflectivity", 24, 4}, {"ring", 26, 4}},
+                                         {{"x", 0, 7},
+                                          {"y", 4, 7},
+                                          {"z", 8, 7},
+                                          {"intensity", 16, 7},
+                                          {"t", 20, 6},
+                                          {"reflectivity", 24, 4},
+                                          {"ring", 26, 4}},
                                          48, data);
   const PointCloud cloud = decode_point_cloud2(bytes, RosEncoding::kCdr, "m").cloud;
   ASSERT_EQ(cloud.points.size(), 2U);
@@ -145,11 +152,11 @@ TEST(DecodePointCloud2, TakesAbsoluteTimestampsInSecondsOrNanoseconds) {
     std::string data(26, '\0');
     put_at<float>(data, 0, 1.0f);
     put_at<double>(data, 18, (stamp_s + 0.04) * scale);
-    const std::string bytes = CloudBytes(RosEncoding::kRos1)
-                                  .message(kStampNs, 1, 1,
-                                           {{"x", 0, 7}, {"y", 4, 7}, {"z", 8, 7},
-                                            {"line", 17, 2}, {"timestamp", 18, 8}},
-                                           26, data);
+    const std::string bytes =
+        CloudBytes(RosEncoding::kRos1)
+            .message(kStampNs, 1, 1,
+                     {{"x", 0, 7}, {"y", 4, 7}, {"z", 8, 7}, {"line", 17, 2}, {"timestamp", 18, 8}},
+                     26, data);
     const PointCloud cloud = decode_point_cloud2(bytes, RosEncoding::kRos1, "m").cloud;
     EXPECT_NEAR(cloud.points[0].t, 0.04, 1e-5) << scale;
     EXPECT_TRUE(cloud.has_ring);
@@ -189,9 +196,9 @@ TEST(DecodePointCloud2, ReadsFloat64CoordinatesAndBigEndianData) {
 TEST(DecodePointCloud2, RejectsBrokenLayoutsNamingTheField) {
   const auto error_of = [](const std::vector<FieldSpec>& fields, std::uint32_t point_step,
                            std::size_t data_size) {
-    const std::string bytes = CloudBytes(RosEncoding::kRos1)
-                                  .message(kStampNs, 1, 2, fields, point_step,
-                                           std::string(data_size, '\0'));
+    const std::string bytes =
+        CloudBytes(RosEncoding::kRos1)
+            .message(kStampNs, 1, 2, fields, point_step, std::string(data_size, '\0'));
     try {
       decode_point_cloud2(bytes, RosEncoding::kRos1, "run.bag (/points message 4)");
     } catch (const InputError& error) {
@@ -204,8 +211,7 @@ TEST(DecodePointCloud2, RejectsBrokenLayoutsNamingTheField) {
   EXPECT_THAT(error_of(xyz, 8, 16), HasSubstr("fields.z"));
   EXPECT_THAT(error_of(xyz, 12, 20), HasSubstr("data"));
   EXPECT_THAT(error_of({{"x", 0, 5}, {"y", 4, 7}, {"z", 8, 7}}, 12, 24), HasSubstr("fields.x"));
-  EXPECT_THAT(error_of({{"x", 0, 7}, {"y", 4, 9}, {"z", 8, 7}}, 12, 24),
-              HasSubstr("datatype 9"));
+  EXPECT_THAT(error_of({{"x", 0, 7}, {"y", 4, 9}, {"z", 8, 7}}, 12, 24), HasSubstr("datatype 9"));
   EXPECT_THAT(error_of(xyz, 12, 20), HasSubstr("/points message 4"));
   // An absolute timestamp nowhere near the header's stamp.
   std::string data(2 * 20, '\0');

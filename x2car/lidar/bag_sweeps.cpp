@@ -43,11 +43,11 @@ BagSweeps sweeps_from_bag(const std::filesystem::path& path, const BagSweepOptio
     const io::BagTopic& topic = bag->topics()[message.topic];
     if (!chosen_topic(topic) || !io::ros_type_is(topic.type, kPointCloud2)) return;
     const std::string source = fmt::format("{} ({} message {})", file, topic.name, count);
-    const io::RosHeader header = io::read_point_cloud2_header(
-        message.data, io::ros_encoding_of(topic, path), source);
+    const io::RosHeader header =
+        io::read_point_cloud2_header(message.data, io::ros_encoding_of(topic, path), source);
     if (messages[message.topic].empty()) frame_id = header.frame_id;
-    messages[message.topic].push_back({.stamp_ns = header.stamp_ns, .ref = message.ref,
-                                       .count = count});
+    messages[message.topic].push_back(
+        {.stamp_ns = header.stamp_ns, .ref = message.ref, .count = count});
   });
 
   std::vector<std::string> cloud_topics;
@@ -59,10 +59,10 @@ BagSweeps sweeps_from_bag(const std::filesystem::path& path, const BagSweepOptio
   }
   if (options.topic && (!chosen || !io::ros_type_is(bag->topics()[*chosen].type, kPointCloud2))) {
     throw InputError(file, 0, *options.topic,
-                     !chosen ? fmt::format("no such topic; the PointCloud2 topics: {}",
-                                           cloud_topics.empty() ? "none" : io::join(cloud_topics))
-                             : fmt::format("is {}, not {}", bag->topics()[*chosen].type,
-                                           kPointCloud2));
+                     !chosen
+                         ? fmt::format("no such topic; the PointCloud2 topics: {}",
+                                       cloud_topics.empty() ? "none" : io::join(cloud_topics))
+                         : fmt::format("is {}, not {}", bag->topics()[*chosen].type, kPointCloud2));
   }
   if (!options.topic && cloud_topics.size() != 1) {
     throw InputError(file, cloud_topics.empty()
@@ -82,16 +82,17 @@ BagSweeps sweeps_from_bag(const std::filesystem::path& path, const BagSweepOptio
   out.frame_id = frame_id;
   for (std::size_t i = 0; i < sweeps.size(); ++i) {
     if (i > 0 && sweeps[i].stamp_ns == sweeps[i - 1].stamp_ns) {
-      throw InputError(file, 0, topic.name,
-                       fmt::format("messages {} and {} have one header.stamp ({} s)",
-                                   sweeps[i - 1].count, sweeps[i].count,
-                                   io::stamp_seconds(sweeps[i].stamp_ns)));
+      throw InputError(
+          file, 0, topic.name,
+          fmt::format("messages {} and {} have one header.stamp ({} s)", sweeps[i - 1].count,
+                      sweeps[i].count, io::stamp_seconds(sweeps[i].stamp_ns)));
     }
     out.source.times.push_back(io::stamp_seconds(sweeps[i].stamp_ns));
   }
   const io::RosEncoding encoding = io::ros_encoding_of(topic, path);
   // Shared: the source may be copied, and outlives this call.
-  out.source.read = [bag = std::shared_ptr<const io::BagFile>(std::move(bag)), sweeps = std::move(sweeps), encoding, file,
+  out.source.read = [bag = std::shared_ptr<const io::BagFile>(std::move(bag)),
+                     sweeps = std::move(sweeps), encoding, file,
                      name = topic.name](std::size_t index) {
     const SweepMessage& sweep = sweeps.at(index);
     const std::string bytes = bag->read(sweep.ref);
