@@ -17,6 +17,7 @@
 #include "x2car/io/bag.hpp"
 #include "x2car/io/geodetic.hpp"
 #include "x2car/io/novatel_csv.hpp"
+#include "x2car/io/ros_definition.hpp"
 #include "x2car/io/ros_message.hpp"
 #include "x2car/io/text_lines.hpp"
 
@@ -27,6 +28,8 @@ constexpr const char* kOdometryType = "nav_msgs/Odometry";
 constexpr const char* kPoseStampedType = "geometry_msgs/PoseStamped";
 constexpr const char* kNavSatFixType = "sensor_msgs/NavSatFix";
 constexpr const char* kImuType = "sensor_msgs/Imu";
+constexpr const char* kInspvaType = "novatel_oem7_msgs/INSPVA";
+constexpr const char* kInspvaxType = "novatel_oem7_msgs/INSPVAX";
 constexpr std::int64_t kUnixStampNs = 100'000'000LL * 1'000'000'000LL;  // 10^8 s
 
 struct StampedRecord {
@@ -99,8 +102,87 @@ StampedRecord decode_pose_stamped(std::string_view bytes, RosEncoding encoding,
   return out;
 }
 
+bool is_novatel_type(const std::string& type) {
+  return ros_type_is(type, kInspvaType) || ros_type_is(type, kInspvaxType);
+}
+
 bool is_pose_type(const std::string& type) {
-  return ros_type_is(type, kOdometryType) || ros_type_is(type, kPoseStampedType);
+  return ros_type_is(type, kOdometryType) || ros_type_is(type, kPoseStampedType) ||
+         is_novatel_type(type);
+}
+
+// A geodetic solution (NovAtel's INSPVA): position, local-level velocity and attitude.
+struct GeodeticSample {
+  std::int64_t stamp_ns = 0;
+  GeodeticPosition position;
+  Eigen::Vector3d velocity_local_level = Eigen::Vector3d::Zero();  // east, north, up [m/s]
+  EulerAngles attitude_local_level;  // of local_level_from_device, x2car's axes [rad]
+  int status = 0;
+};
+
+// novatel_oem7_msgs/INSPVA(X), read by the definition the bag holds (its Oem7Header has grown
+// fields between driver versions). NovAtel's vehicle frame is x right, y forward, z up; its roll
+// is right-handed about y (forward), its pitch right-handed about x (right: nose up positive),
+// its azimuth clockwise from north, applied azimuth, pitch, roll. In x2car's axes (x forward, y
+// left) that is Rz(pi/2 - azimuth) Ry(-pitch) Rx(roll).
+GeodeticSample decode_inspva(const RosDefinition& definition, std::string_view bytes,
+                             RosEncoding encoding, const std::string& source) {
+  const bool ros1 = encoding == RosEncoding::kRos1;
+  const std::string nanoseconds = ros1 ? "header.stamp.nsec" : "header.stamp.nanosec";
+  const std::vector<std::string> paths = {
+      "header.stamp.sec", nanoseconds,   "latitude", "longitude", "height",  "north_velocity",
+      "east_velocity",    "up_velocity", "roll",     "pitch",     "azimuth", "status.status"};
+  const std::map<std::string, double> values =
+      definition.read_numbers(bytes, encoding, source, paths);
+  const auto value = [&](const std::string& path) {
+    const auto found = values.find(path);
+    if (found == values.end()) {
+      throw InputError(source, 0, path, "the message definition has no such field");
+    }
+    return finite(found->second, source, path.c_str());
+  };
+  GeodeticSample sample;
+  const double sec = value("header.stamp.sec");
+  const double nanosec = value(nanoseconds);
+  if (nanosec < 0.0 || nanosec >= 1e9) {
+    throw InputError(source, 0, nanoseconds, "is not below 10^9");
+  }
+  sample.stamp_ns =
+      static_cast<std::int64_t>(sec) * 1'000'000'000LL + static_cast<std::int64_t>(nanosec);
+  sample.position = {value("latitude"), value("longitude"), value("height")};
+  if (!is_valid_geodetic(sample.position)) {
+    throw InputError(source, 0, "latitude", "not a position on the earth");
+  }
+  sample.velocity_local_level = {value("east_velocity"), value("north_velocity"),
+                                 value("up_velocity")};
+  sample.attitude_local_level = {rad_from_deg(value("roll")), -rad_from_deg(value("pitch")),
+                                 wrap_angle(kPi / 2.0 - rad_from_deg(value("azimuth")))};
+  const auto status = values.find("status.status");
+  sample.status = status == values.end() ? 0 : static_cast<int>(status->second);
+  return sample;
+}
+
+// The samples in the ENU frame of the first (velocity and attitude turned from each sample's
+// local level into it), as the other geodetic readers give them.
+std::vector<StampedRecord> records_of(std::vector<GeodeticSample> samples,
+                                      std::optional<GeodeticPosition>& origin) {
+  std::ranges::stable_sort(samples, {}, &GeodeticSample::stamp_ns);
+  std::vector<StampedRecord> out;
+  if (samples.empty()) return out;
+  const LocalEnuFrame frame(samples.front().position);
+  origin = samples.front().position;
+  for (const GeodeticSample& sample : samples) {
+    const Eigen::Matrix3d frame_from_local_level = frame.frame_from_local_level(sample.position);
+    StampedRecord record;
+    record.stamp_ns = sample.stamp_ns;
+    record.record.position_enu = frame.enu_from_geodetic(sample.position);
+    record.record.velocity_enu = frame_from_local_level * sample.velocity_local_level;
+    record.record.attitude = euler_from_rotation(frame_from_local_level *
+                                                 rotation_from_euler(sample.attitude_local_level));
+    record.record.status = sample.status;
+    out.push_back(record);
+  }
+  return out;
 }
 
 // sensor_msgs/NavSatFix: header, status (int8 status, uint16 service), latitude, longitude,
@@ -152,6 +234,8 @@ std::optional<ImuOrientation> decode_imu(RosMessageReader& message) {
 // Per topic, what the scan decoded.
 struct TopicData {
   std::vector<StampedRecord> poses;
+  std::vector<GeodeticSample> geodetic;  // INSPVA
+  std::optional<RosDefinition> definition;
   std::vector<std::pair<std::int64_t, GeodeticPosition>> fixes;
   std::vector<ImuOrientation> orientations;
   std::int64_t count = 0;
@@ -237,6 +321,19 @@ InsLog read_ins_bag(const std::filesystem::path& path, const BagInsOptions& opti
       topic_data.poses.push_back(decode_odometry(message.data, encoding, source));
     } else if (ros_type_is(topic.type, kPoseStampedType)) {
       topic_data.poses.push_back(decode_pose_stamped(message.data, encoding, source));
+    } else if (is_novatel_type(topic.type)) {
+      if (!topic_data.definition) {
+        if (topic.definition.empty()) {
+          throw InputError(file, 0, topic.name,
+                           fmt::format("the bag holds no message definition of {}: x2car reads "
+                                       "NovAtel's messages by the definition the recorder stored",
+                                       topic.type));
+        }
+        topic_data.definition.emplace(topic.type, topic.definition,
+                                      fmt::format("{} ({} definition)", file, topic.name));
+      }
+      topic_data.geodetic.push_back(
+          decode_inspva(*topic_data.definition, message.data, encoding, source));
     } else {
       RosMessageReader reader(message.data, encoding, source);
       if (ros_type_is(topic.type, kNavSatFixType)) {
@@ -288,7 +385,9 @@ InsLog read_ins_bag(const std::filesystem::path& path, const BagInsOptions& opti
   if (named != nullptr ? is_pose_type(named->type) : !pose_topics.empty()) {
     chosen =
         named != nullptr ? named : pick_topic(pose_topics, std::nullopt, file, "pose", "--topic");
-    stamped = std::move(data[index_of(chosen)].poses);
+    stamped = is_novatel_type(chosen->type)
+                  ? records_of(std::move(data[index_of(chosen)].geodetic), log.enu_origin)
+                  : std::move(data[index_of(chosen)].poses);
     if (!stamped.empty()) log.frame_id = stamped.front().frame_id;
   } else if (named != nullptr || !fix_topics.empty()) {
     // GNSS fixes with an IMU's orientation: what a car without an INS driver records.

@@ -63,6 +63,10 @@ std::uint8_t RosMessageReader::uint8(const char* field) {
   return read_unsigned<std::uint8_t>(field);
 }
 
+std::uint64_t RosMessageReader::uint64(const char* field) {
+  return read_unsigned<std::uint64_t>(field);
+}
+
 bool RosMessageReader::boolean(const char* field) { return uint8(field) != 0; }
 
 double RosMessageReader::float64(const char* field) {

@@ -36,6 +36,7 @@ class RosMessageReader {
   std::uint32_t uint32(const char* field);
   std::uint16_t uint16(const char* field);
   std::uint8_t uint8(const char* field);
+  std::uint64_t uint64(const char* field);
   bool boolean(const char* field);
   double float64(const char* field);
   float float32(const char* field);
