@@ -4,10 +4,16 @@
 // from its Odometry topic (io/bag_ins.hpp), whose records must be finite.
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "fuzz/fuzz_support.hpp"
+#include "x2car/io/bag.hpp"
 #include "x2car/io/bag_ins.hpp"
+#include "x2car/io/bag_radar.hpp"
+#include "x2car/io/bag_tf.hpp"
 #include "x2car/io/mcap_reader.hpp"
+#include "x2car/io/ros_camera_info.hpp"
+#include "x2car/io/ros_point_cloud2.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace x2car;
@@ -33,6 +39,35 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       fuzz::expect_finite(record.attitude.yaw, "read_ins_bag yaw");
       fuzz::expect_finite(record.velocity_enu.x(), "read_ins_bag velocity");
     }
+  });
+  // Every message as every type x2car decodes, in both encodings; then read back by reference.
+  fuzz::accept_input_errors("open_bag", [&] {
+    const auto bag = io::open_bag(path, {.allow_truncated = true});
+    std::vector<io::BagMessageRef> refs;
+    bag->scan({}, [&](const io::BagMessage& message) {
+      refs.push_back(message.ref);
+      for (const io::RosEncoding encoding : {io::RosEncoding::kCdr, io::RosEncoding::kRos1}) {
+        fuzz::accept_input_errors("decode_point_cloud2", [&] {
+          for (const io::LidarPoint& point :
+               io::decode_point_cloud2(message.data, encoding, "m").cloud.points) {
+            checksum += point.ring;
+          }
+        });
+        fuzz::accept_input_errors("decode_camera_info", [&] {
+          const auto info = io::decode_camera_info(message.data, encoding, "m");
+          fuzz::expect_finite(info.intrinsics.fx, "decode_camera_info fx");
+        });
+      }
+    });
+    for (const io::BagMessageRef& ref : refs) checksum += bag->read(ref).size();
+  });
+  fuzz::accept_input_errors("read_radar_bag", [&] {
+    for (const io::RadarDetection& detection : io::read_radar_bag(path).detections) {
+      fuzz::expect_finite(detection.range_rate, "read_radar_bag range_rate");
+    }
+  });
+  fuzz::accept_input_errors("read_bag_transforms", [&] {
+    checksum += io::read_bag_transforms(path).size();
   });
   return checksum == 1 ? 1 : 0;  // keeps the reads; libFuzzer ignores the value
 }

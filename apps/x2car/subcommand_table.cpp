@@ -28,8 +28,8 @@ std::span<const Subcommand> subcommand_table() {
                  "segments of an evaluation, a camera's frames and a view to adjust them",
                  &setup_report_command},
       Subcommand{"inspect",
-                 "What a log holds: an MCAP file's topics, types, counts, rates, and which "
-                 "calibrator can use each",
+                 "What a bag holds (MCAP, ROS 1, ROS 2): its topics, types, counts, rates, and "
+                 "which calibrator reads each",
                  &setup_inspect_command},
   };
   return kSubcommands;
