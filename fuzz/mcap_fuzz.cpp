@@ -66,8 +66,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       fuzz::expect_finite(detection.range_rate, "read_radar_bag range_rate");
     }
   });
-  fuzz::accept_input_errors("read_bag_transforms", [&] {
-    checksum += io::read_bag_transforms(path).size();
-  });
+  fuzz::accept_input_errors("read_bag_transforms",
+                            [&] { checksum += io::read_bag_transforms(path).size(); });
   return checksum == 1 ? 1 : 0;  // keeps the reads; libFuzzer ignores the value
 }

@@ -31,6 +31,7 @@
 #include "x2car/core/error.hpp"
 #include "x2car/core/extrinsic.hpp"
 #include "x2car/io/autoware_yaml.hpp"
+#include "x2car/io/bag.hpp"
 #include "x2car/io/drive_folder.hpp"
 #include "x2car/io/extrinsic_formats.hpp"
 #include "x2car/io/ground_truth.hpp"
@@ -74,9 +75,11 @@ std::vector<std::string> sensor_arguments(const io::DriveSensor& sensor,
                                           const CalibrateAllArguments& arguments,
                                           const fs::path& json) {
   std::vector<std::string> line = {"--input", sensor.input.string()};
+  if (sensor.topic) line.insert(line.end(), {"--topic", *sensor.topic});
   if (sensor.kind == io::SensorKind::kRadar || sensor.kind == io::SensorKind::kCamera) {
     if (drive.ins_log) {
       line.insert(line.end(), {"--ins", drive.ins_log->string()});
+      if (drive.ins_topic) line.insert(line.end(), {"--ins-topic", *drive.ins_topic});
     } else if (sensor.kind == io::SensorKind::kRadar) {
       throw InputError(sensor.input.string(),
                        "a radar needs the car's motion: the drive has no GNSS/INS log (no "
@@ -206,7 +209,9 @@ void write_outputs(const std::vector<SensorRun>& runs, const OutputArguments& ou
 
 int run_calibrate_all(const CalibrateAllArguments& arguments) {
   check_output_arguments(arguments.output, {{{"--input", arguments.input_path}}});
-  const io::DriveFolder drive = io::find_drive_sensors(arguments.input_path);
+  const io::DriveFolder drive = io::bag_container_of(arguments.input_path)
+                                    ? io::find_bag_sensors(arguments.input_path)
+                                    : io::find_drive_sensors(arguments.input_path);
   std::optional<io::GroundTruth> truth;
   if (drive.ground_truth) truth = io::read_ground_truth(*drive.ground_truth);
   const ScratchFolder scratch;
@@ -272,9 +277,10 @@ RunCommand setup_calibrate_all_command(CLI::App& command) {
   command
       .add_option("-i,--input", arguments->input_path,
                   "A drive folder as x2car simulate writes it (ins/novatel_enu.csv, lidar*/, "
-                  "radar*/, camera*/), or any folder with an x2car.yaml manifest naming each "
-                  "sensor's type and input (docs/formats.md)")
-      ->type_name("DIR")
+                  "radar*/, camera*/), any folder with an x2car.yaml manifest naming each "
+                  "sensor's type and input (docs/formats.md), or a bag (MCAP, ROS 1 .bag, ROS 2 "
+                  "bag folder): a sensor per topic a calibrator reads")
+      ->type_name("DIR|BAG")
       ->required();
   add_output_options(command, arguments->output);
   command.footer(

@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 #include <system_error>
 
 #include "x2car/core/error.hpp"
+#include "x2car/io/bag.hpp"
 #include "x2car/io/text_lines.hpp"
 #include "x2car/io/yaml_util.hpp"
 
@@ -52,9 +54,9 @@ DriveFolder find_drive_sensors(const fs::path& root) {
         throw InputError(entry.path().string(), "holds no novatel_enu.csv (the GNSS/INS log)");
       }
       drive.ins_log = log;
-      drive.sensors.push_back({name, *kind, log, {}, {}, {}});
+      drive.sensors.push_back({name, *kind, log, {}, {}, {}, {}});
     } else {
-      drive.sensors.push_back({name, *kind, entry.path(), {}, {}, {}});
+      drive.sensors.push_back({name, *kind, entry.path(), {}, {}, {}, {}});
     }
   }
   if (error) throw InputError(root.string(), "cannot list the folder: " + error.message());
@@ -74,7 +76,7 @@ namespace {
 
 // The keys a sensor of each type may have besides `type` and `input`.
 bool key_fits(SensorKind kind, const std::string& key) {
-  if (key == "type" || key == "input") return true;
+  if (key == "type" || key == "input" || key == "topic") return true;
   if (key == "intrinsics") return kind == SensorKind::kCamera;
   if (key == "lever_arm" || key == "nominal_yaw_deg") return kind == SensorKind::kRadar;
   return false;
@@ -152,7 +154,12 @@ DriveFolder read_drive_manifest_checked(const fs::path& manifest) {
     }
     const YAML::Node input = fields["input"];
     if (!input) throw InputError(source, yaml_line(fields), prefix + ".input", "missing");
-    DriveSensor sensor{name, *kind, existing(input, prefix + ".input"), {}, {}, {}};
+    DriveSensor sensor{name, *kind, existing(input, prefix + ".input"), {}, {}, {}, {}};
+    if (const YAML::Node topic = fields["topic"]) {
+      if (!topic.IsScalar())
+        throw InputError(source, yaml_line(topic), prefix + ".topic", "a name");
+      sensor.topic = topic.as<std::string>();
+    }
     if (const YAML::Node intrinsics = fields["intrinsics"]) {
       sensor.intrinsics = existing(intrinsics, prefix + ".intrinsics");
     }
@@ -170,6 +177,7 @@ DriveFolder read_drive_manifest_checked(const fs::path& manifest) {
     if (*kind == SensorKind::kIns) {
       ins_names.push_back(name);
       drive.ins_log = sensor.input;
+      drive.ins_topic = sensor.topic;
     }
     drive.sensors.push_back(std::move(sensor));
   }
@@ -198,6 +206,67 @@ DriveFolder read_drive_manifest(const fs::path& manifest) {
     throw InputError(manifest.string(), yaml_line(error.mark), "",
                      std::string("not a manifest x2car reads: ") + error.msg);
   }
+}
+
+DriveFolder find_bag_sensors(const fs::path& path) {
+  const std::unique_ptr<BagFile> bag = open_bag(path);
+  bag->scan([](const BagTopic&) { return false; }, [](const BagMessage&) {});
+  DriveFolder drive;
+  drive.root = path;
+  const auto name_of = [](const std::string& topic) {
+    std::string name;
+    for (const char c : topic) {
+      const bool plain = std::isalnum(static_cast<unsigned char>(c)) != 0;
+      if (plain || !name.empty()) name += plain ? c : '_';
+    }
+    while (name.ends_with('_')) name.pop_back();
+    return name.empty() ? std::string("sensor") : name;
+  };
+  std::vector<std::string> pose_topics;
+  std::vector<std::string> fix_topics;
+  for (const BagTopic& topic : bag->topics()) {
+    const std::string& type = topic.type;
+    const auto add = [&](SensorKind kind) {
+      DriveSensor sensor{name_of(topic.name), kind, path, {}, {}, {}, topic.name};
+      drive.sensors.push_back(std::move(sensor));
+    };
+    if (ros_type_is(type, "nav_msgs/Odometry") || ros_type_is(type, "geometry_msgs/PoseStamped") ||
+        ros_type_is(type, "novatel_oem7_msgs/INSPVA") ||
+        ros_type_is(type, "novatel_oem7_msgs/INSPVAX")) {
+      pose_topics.push_back(topic.name);
+    } else if (ros_type_is(type, "sensor_msgs/NavSatFix")) {
+      fix_topics.push_back(topic.name);
+    } else if (ros_type_is(type, "sensor_msgs/PointCloud2")) {
+      add(SensorKind::kLidar);
+    } else if (ros_type_is(type, "radar_msgs/RadarScan") ||
+               ros_type_is(type, "radar_msgs/RadarTracks")) {
+      add(SensorKind::kRadar);
+    } else if (ros_type_is(type, "sensor_msgs/Image") ||
+               ros_type_is(type, "sensor_msgs/CompressedImage")) {
+      add(SensorKind::kCamera);
+    }
+  }
+  if (pose_topics.size() > 1) {
+    throw InputError(path.string(),
+                     fmt::format("holds {} pose topics ({}): calibrate the GNSS/INS with "
+                                 "`calibrate ins --topic`, or name each sensor's topic in an "
+                                 "x2car.yaml manifest",
+                                 pose_topics.size(), join(pose_topics)));
+  }
+  const std::vector<std::string>& ins = pose_topics.empty() ? fix_topics : pose_topics;
+  if (ins.size() == 1) {
+    drive.ins_log = path;
+    drive.ins_topic = ins.front();
+    drive.sensors.insert(
+        drive.sensors.begin(),
+        DriveSensor{name_of(ins.front()), SensorKind::kIns, path, {}, {}, {}, ins.front()});
+  }
+  if (drive.sensors.empty()) {
+    throw InputError(path.string(), "holds no topic a calibrator reads (x2car inspect lists them)");
+  }
+  std::ranges::stable_sort(
+      drive.sensors, [](const DriveSensor& a, const DriveSensor& b) { return a.kind < b.kind; });
+  return drive;
 }
 
 }  // namespace x2car::io

@@ -16,8 +16,11 @@
 //     lidar_top:    {type: lidar, input: lidar_top}
 //     radar_left:   {type: radar, input: radar/left, lever_arm: [3.2, 0.8], nominal_yaw_deg: 90}
 //     camera_front: {type: camera, input: front.mp4, intrinsics: front_camera_info.yaml}
+//     lidar_roof:   {type: lidar, input: run.bag, topic: /velodyne_points}
 //   ground_truth: ground_truth.yaml        (optional)
-// Paths are relative to the manifest's folder.
+// Paths are relative to the manifest's folder. `topic` picks a bag's topic (any type).
+//
+// A bag itself (find_bag_sensors) is a drive too: one sensor per topic a calibrator reads.
 #pragma once
 
 #include <array>
@@ -49,12 +52,14 @@ struct DriveSensor {
   std::optional<std::filesystem::path> intrinsics;   // a camera's
   std::optional<std::array<double, 2>> lever_arm_m;  // a radar's x y on the car [m]
   std::optional<double> nominal_yaw_deg;             // a radar's yaw as designed [deg]
+  std::optional<std::string> topic;                  // the input bag's topic
 };
 
 struct DriveFolder {
   std::filesystem::path root;
   std::vector<DriveSensor> sensors;  // INS first, then LiDARs, radars, cameras, each by name
   std::optional<std::filesystem::path> ins_log;  // the GNSS/INS sensor's log, when there is one
+  std::optional<std::string> ins_topic;          // its topic, when the log is a bag
   std::optional<std::filesystem::path> ground_truth;  // DIR/ground_truth.yaml when present
 };
 
@@ -62,6 +67,14 @@ struct DriveFolder {
 // InputError naming the folder when it is missing, not a folder, or holds no sensor; naming
 // DIR/ins when it has no novatel_enu.csv.
 DriveFolder find_drive_sensors(const std::filesystem::path& root);
+
+// The sensors of a bag (io/bag.hpp): the GNSS/INS when it has one pose topic (Odometry,
+// PoseStamped, INSPVA; else one NavSatFix), a LiDAR per PointCloud2 topic, a radar per RadarScan
+// or RadarTracks topic, a camera per Image or CompressedImage topic; each named by its topic
+// ("/sensing/lidar/top/points" -> "sensing_lidar_top_points"), its input the bag. InputError
+// naming the bag when it holds no such topic, or several pose topics (calibrate ins --topic
+// picks one).
+DriveFolder find_bag_sensors(const std::filesystem::path& bag);
 
 // A manifest. InputError naming the file, the line and the key (e.g. "sensors.radar_left.input")
 // when it is not YAML, lacks `sensors`, a sensor lacks `type` or `input`, a type is unknown, an
