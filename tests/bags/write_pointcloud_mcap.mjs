@@ -9,9 +9,11 @@
 // write_odometry_mcap.mjs writes it), the messages of both topics in time order. --tf-static adds
 // one tf2_msgs/msg/TFMessage on /tf_static at the first stamp with the transforms given as
 // PARENT,CHILD,X,Y,Z,ROLL_DEG,PITCH_DEG,YAW_DEG groups separated by ';' (the rotation
-// Rz(yaw) Ry(pitch) Rx(roll)), as a robot_state_publisher latches a car's fixed joints.
+// Rz(yaw) Ry(pitch) Rx(roll)), as a robot_state_publisher latches a car's fixed joints. --late N
+// logs every N-th sweep after the one that follows it (its log time kept: received late), so that
+// a reader must order the sweeps by their stamps.
 //   node write_pointcloud_mcap.mjs PCD_DIR OUT.mcap [--layout NAME] [--compression zstd|lz4|none]
-//                                  [--topic T] [--ins INS_CSV] [--tf-static TRANSFORMS]
+//                                  [--topic T] [--ins INS_CSV] [--tf-static TRANSFORMS] [--late N]
 import { McapWriter } from '@mcap/core';
 import { MessageWriter } from '@foxglove/rosmsg2-serialization';
 import * as zstd from '@foxglove/wasm-zstd';
@@ -21,9 +23,10 @@ import { definitionsOf, readInsCsv, odometryMessage } from './ins_odometry.mjs';
 import { layouts, lidarSweeps, pointCloudMessage } from './pointcloud2.mjs';
 
 const usage = 'usage: node write_pointcloud_mcap.mjs PCD_DIR OUT.mcap [--layout NAME] ' +
-              '[--compression zstd|lz4|none] [--topic T] [--ins INS_CSV] [--tf-static TRANSFORMS]';
+              '[--compression zstd|lz4|none] [--topic T] [--ins INS_CSV] [--tf-static TRANSFORMS] ' +
+              '[--late N]';
 const options = { layout: 'x2car', compression: 'zstd', topic: '/points', ins: undefined,
-                  'tf-static': undefined };
+                  'tf-static': undefined, late: undefined };
 const positional = [];
 const args = process.argv.slice(2);
 for (let i = 0; i < args.length; ++i) {
@@ -97,6 +100,13 @@ for (const sweep of lidarSweeps(pcdDir)) {
   messages.push({ stampNs: sweep.stampNs, channelId: points, serialize });
 }
 messages.sort((a, b) => (a.stampNs < b.stampNs ? -1 : a.stampNs > b.stampNs ? 1 : 0));
+if (options.late) {
+  const sweeps = messages.map((m, i) => (m.channelId === points ? i : -1)).filter((i) => i >= 0);
+  for (let k = Number(options.late) - 1; k + 1 < sweeps.length; k += Number(options.late)) {
+    const [i, j] = [sweeps[k], sweeps[k + 1]];
+    [messages[i], messages[j]] = [messages[j], messages[i]];
+  }
+}
 const sequence = new Map();
 for (const m of messages) {
   sequence.set(m.channelId, (sequence.get(m.channelId) ?? 0) + 1);
