@@ -16,12 +16,25 @@
 namespace x2car::io {
 namespace {
 
+// The library loads its encryption plugins through class_loader's process-wide registry when a
+// bag opens and unloads them when it closes, and that registry is not safe to use from several
+// threads (two bags opened at once, as `calibrate all` does, fail to create rosbag::NoEncryptor).
+// Opening and closing are serialised; reading two open bags at once is safe.
+std::mutex& plugin_registry_mutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
 class Ros1Bag final : public BagFile {
  public:
   explicit Ros1Bag(std::filesystem::path path) : BagFile(std::move(path)) {
+    // Held until the constructor ends, also when it throws: a bag that failed to open is closed
+    // (bag_ reset) under the lock too.
+    const std::lock_guard lock(plugin_registry_mutex());
     try {
-      bag_.open(path_.string(), rosbag::bagmode::Read);
-      rosbag::View all(bag_);
+      bag_ = std::make_unique<rosbag::Bag>();
+      bag_->open(path_.string(), rosbag::bagmode::Read);
+      rosbag::View all(*bag_);
       for (const rosbag::ConnectionInfo* connection : all.getConnections()) {
         // A topic may have several connections (publishers); it is one topic here.
         if (topic_by_name_.contains(connection->topic)) continue;
@@ -32,13 +45,23 @@ class Ros1Bag final : public BagFile {
                            .definition = connection->msg_def});
       }
     } catch (const rosbag::BagUnindexedException&) {
+      bag_.reset();
       throw InputError(path_.string(),
                        "the bag has no index (a recording that did not close?): run `rosbag "
                        "reindex` on it first");
     } catch (const rosbag::BagException& error) {
+      bag_.reset();
       throw InputError(path_.string(), fmt::format("not a readable ROS 1 bag: {}", error.what()));
     }
   }
+
+  ~Ros1Bag() override {
+    const std::lock_guard lock(plugin_registry_mutex());
+    kept_.clear();
+    bag_.reset();
+  }
+  Ros1Bag(const Ros1Bag&) = delete;
+  Ros1Bag& operator=(const Ros1Bag&) = delete;
 
   BagContainer container() const override { return BagContainer::kRos1; }
 
@@ -48,7 +71,7 @@ class Ros1Bag final : public BagFile {
     for (const BagTopic& topic : topics_) topic_wanted.push_back(!wanted || wanted(topic));
     std::string buffer;
     try {
-      rosbag::View view(bag_);
+      rosbag::View view(*bag_);
       for (const rosbag::MessageInstance& instance : view) {
         BagMessage message;
         message.topic = topic_by_name_.at(instance.getTopic());
@@ -87,7 +110,7 @@ class Ros1Bag final : public BagFile {
     return bytes;
   }
 
-  rosbag::Bag bag_;
+  std::unique_ptr<rosbag::Bag> bag_;
   std::map<std::string, std::size_t> topic_by_name_;
   // The messages of wanted topics (the library's index entries), for read.
   std::vector<rosbag::MessageInstance> kept_;
