@@ -24,12 +24,14 @@
 #include "apps/x2car/progress_bar.hpp"
 #include "apps/x2car/report_output.hpp"
 #include "apps/x2car/subcommand.hpp"
+#include "x2car/camera/bag_frames.hpp"
 #include "x2car/camera/camera_frames.hpp"
 #include "x2car/camera/video_frames.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/eval/eval_json.hpp"
 #include "x2car/eval/segments.hpp"
 #include "x2car/ins/ins_calibration.hpp"
+#include "x2car/io/bag.hpp"
 #include "x2car/io/drive_folder.hpp"
 #include "x2car/io/ground_truth.hpp"
 #include "x2car/io/image_folder.hpp"
@@ -37,6 +39,7 @@
 #include "x2car/io/radar_csv.hpp"
 #include "x2car/io/result_json.hpp"
 #include "x2car/io/text_lines.hpp"
+#include "x2car/lidar/bag_sweeps.hpp"
 #include "x2car/lidar/lidar_calibration.hpp"
 #include "x2car/lidar/sweep_folder.hpp"
 #include "x2car/radar/radar_calibration.hpp"
@@ -105,7 +108,9 @@ SensorEval eval_ins(const io::DriveSensor& sensor, const std::vector<io::InsReco
 
 SensorEval eval_radar(const io::DriveSensor& sensor, const io::InsLog& ins_log,
                       const eval::SegmentOptions& options) {
-  const io::RadarLog radar_log = io::read_radar(sensor.input, {});
+  io::RadarReadOptions read_options;
+  read_options.topic = sensor.topic;  // a bag's
+  const io::RadarLog radar_log = io::read_radar(sensor.input, read_options);
   // The radar's times on the GNSS/INS log's clock.
   const std::vector<io::RadarDetection> detections =
       radar::detections_on_ins_clock(radar_log, ins_log);
@@ -131,8 +136,10 @@ SensorEval eval_radar(const io::DriveSensor& sensor, const io::InsLog& ins_log,
 
 SensorEval eval_lidar(const io::DriveSensor& sensor, std::span<const io::InsRecord> ins,
                       const eval::SegmentOptions& options, bool whole_series) {
-  const lidar::SweepFolder folder = lidar::list_sweeps(sensor.input);
-  const lidar::SweepSource source = lidar::sweep_source_from(folder);
+  const lidar::SweepSource source =
+      io::bag_container_of(sensor.input)
+          ? lidar::sweeps_from_bag(sensor.input, {.topic = sensor.topic}).source
+          : lidar::sweep_source_from(lidar::list_sweeps(sensor.input));
   lidar::LidarCalibrationOptions calibration;
   calibration.keep_series = whole_series;
   SensorEval result{sensor, {lidar::calibrate_lidar(source, calibration), {}}};
@@ -159,21 +166,32 @@ SensorEval eval_lidar(const io::DriveSensor& sensor, std::span<const io::InsReco
 }
 
 SensorEval eval_camera(const io::DriveSensor& sensor, const std::optional<fs::path>& ins_path,
+                       const std::optional<std::string>& ins_topic,
                        const std::optional<io::InsLog>& ins_log,
                        const eval::SegmentOptions& options, bool whole_series) {
   IntrinsicsSource intrinsics_source;
   if (sensor.intrinsics) intrinsics_source.intrinsics_path = sensor.intrinsics->string();
-  const core::CameraIntrinsics intrinsics =
-      find_camera_intrinsics(sensor.input.string(), intrinsics_source);
   io::ImageFolder folder;  // outlives the frames that read from it
   camera::CameraFrameSource source;
-  if (camera::is_video_file(sensor.input)) {
+  std::optional<core::CameraIntrinsics> bag_intrinsics;
+  if (io::bag_container_of(sensor.input)) {
+    camera::BagFrames bag = camera::camera_frames_from_bag(sensor.input, {.topic = sensor.topic});
+    source = std::move(bag.source);
+    bag_intrinsics = bag.intrinsics;
+  } else if (camera::is_video_file(sensor.input)) {
     source = camera::camera_frames_from_video(sensor.input);
   } else {
     folder = io::list_images(sensor.input);
     source = camera::camera_frames_from(folder);
   }
-  if (ins_path) source.motion = camera_motion_from_log(ins_path->string(), source);
+  // A manifest's intrinsics win over the bag's CameraInfo, as --intrinsics does.
+  const core::CameraIntrinsics intrinsics =
+      bag_intrinsics && !sensor.intrinsics
+          ? *bag_intrinsics
+          : find_camera_intrinsics(sensor.input.string(), intrinsics_source);
+  if (ins_path) {
+    source.motion = camera_motion_from_log(ins_path->string(), source, ins_topic.value_or(""));
+  }
   camera::CameraCalibrationOptions calibration;
   calibration.keep_series = whole_series;
   SensorEval result{sensor, {camera::calibrate_camera(source, intrinsics, calibration), {}}};
@@ -299,11 +317,17 @@ int run_eval(const EvalArguments& arguments) {
   eval::SegmentOptions options;
   options.segment_s = arguments.segment_s;
   options.Check();
-  const io::DriveFolder drive = io::find_drive_sensors(arguments.input_path);
+  const io::DriveFolder drive = io::bag_container_of(arguments.input_path)
+                                    ? io::find_bag_sensors(arguments.input_path)
+                                    : io::find_drive_sensors(arguments.input_path);
   std::optional<io::GroundTruth> truth;
   if (drive.ground_truth) truth = io::read_ground_truth(*drive.ground_truth);
   std::optional<io::InsLog> ins_log;
-  if (drive.ins_log) ins_log = io::read_ins_log(*drive.ins_log);
+  if (drive.ins_log) {
+    io::InsReadOptions ins_options;
+    ins_options.topic = drive.ins_topic;
+    ins_log = io::read_ins_log(*drive.ins_log, ins_options);
+  }
   const std::span<const io::InsRecord> ins =
       ins_log ? std::span<const io::InsRecord>(ins_log->records) : std::span<const io::InsRecord>();
 
@@ -327,7 +351,8 @@ int run_eval(const EvalArguments& arguments) {
         runs.push_back(eval_lidar(sensor, ins, options, with_report));
         break;
       case io::SensorKind::kCamera:
-        runs.push_back(eval_camera(sensor, drive.ins_log, ins_log, options, with_report));
+        runs.push_back(
+            eval_camera(sensor, drive.ins_log, drive.ins_topic, ins_log, options, with_report));
         break;
     }
   }
