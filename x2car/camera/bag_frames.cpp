@@ -181,35 +181,17 @@ BagFrames camera_frames_from_bag(const std::filesystem::path& path,
             {.stamp_ns = header.stamp_ns, .ref = message.ref, .count = count});
       });
 
-  std::vector<std::string> image_topics;
-  std::optional<std::size_t> chosen;
-  for (std::size_t i = 0; i < bag->topics().size(); ++i) {
-    const io::BagTopic& topic = bag->topics()[i];
-    if (is_image_type(topic.type)) image_topics.push_back(topic.name);
-    if (chosen_topic(topic) && !chosen) chosen = i;
-  }
-  if (options.topic && (!chosen || !is_image_type(bag->topics()[*chosen].type))) {
-    throw InputError(file, 0, *options.topic,
-                     !chosen ? fmt::format("no such topic; the image topics: {}",
-                                           image_topics.empty() ? "none" : io::join(image_topics))
-                             : fmt::format("is {}, not {} or {}", bag->topics()[*chosen].type,
-                                           kImage, kCompressedImage));
-  }
-  if (!options.topic && image_topics.size() != 1) {
-    throw InputError(file, image_topics.empty()
-                               ? fmt::format("holds no {} or {} topic", kImage, kCompressedImage)
-                               : fmt::format("holds {} image topics ({}): pick one with --topic",
-                                             image_topics.size(), io::join(image_topics)));
-  }
-  const io::BagTopic topic = bag->topics()[*chosen];
+  const std::size_t chosen =
+      io::choose_topic(*bag, options.topic, {kImage, kCompressedImage}, "image");
+  const io::BagTopic topic = bag->topics()[chosen];
   std::vector<FrameMessage> frames =
-      *chosen < messages.size() ? std::move(messages[*chosen]) : std::vector<FrameMessage>{};
+      chosen < messages.size() ? std::move(messages[chosen]) : std::vector<FrameMessage>{};
   if (frames.empty()) throw InputError(file, 0, topic.name, "the topic holds no messages");
   std::ranges::stable_sort(frames, {}, &FrameMessage::stamp_ns);
 
   BagFrames out;
   out.topic = topic.name;
-  out.frame_id = frame_ids.contains(*chosen) ? frame_ids.at(*chosen) : std::string();
+  out.frame_id = frame_ids.contains(chosen) ? frame_ids.at(chosen) : std::string();
   // The CameraInfo topic whose namespace holds the image topic, the deepest one.
   std::optional<std::size_t> info;
   for (const auto& [index, bytes] : first_info) {

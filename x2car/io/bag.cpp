@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cstdlib>
@@ -12,6 +13,7 @@
 
 #include "x2car/core/error.hpp"
 #include "x2car/io/mcap_reader.hpp"
+#include "x2car/io/text_lines.hpp"
 
 namespace x2car::io {
 namespace {
@@ -103,6 +105,47 @@ double stamp_seconds(std::int64_t stamp_ns) {
   double seconds = 0.0;
   std::from_chars(text.data(), text.data() + text.size(), seconds);
   return seconds;
+}
+
+std::size_t choose_topic(const BagFile& bag, const std::optional<std::string>& wanted,
+                         std::initializer_list<std::string_view> types, std::string_view kind) {
+  const auto of_types = [&](const BagTopic& topic) {
+    return std::ranges::any_of(
+        types, [&](std::string_view type) { return ros_type_is(topic.type, type); });
+  };
+  std::vector<std::string> candidates;
+  std::optional<std::size_t> named;
+  std::optional<std::size_t> only;
+  for (std::size_t i = 0; i < bag.topics().size(); ++i) {
+    const BagTopic& topic = bag.topics()[i];
+    if (of_types(topic)) {
+      candidates.push_back(topic.name);
+      only = i;
+    }
+    if (wanted && topic.name == *wanted) named = i;
+  }
+  const std::string file = bag.path().string();
+  std::vector<std::string> type_names(types.begin(), types.end());
+  if (wanted) {
+    if (!named) {
+      throw InputError(file, 0, *wanted,
+                       fmt::format("no such topic; the {} topics: {}", kind,
+                                   candidates.empty() ? "none" : join(candidates)));
+    }
+    if (!of_types(bag.topics()[*named])) {
+      throw InputError(
+          file, 0, *wanted,
+          fmt::format("is {}, not {}", bag.topics()[*named].type, join(type_names, " or ")));
+    }
+    return *named;
+  }
+  if (candidates.size() != 1) {
+    throw InputError(file, candidates.empty()
+                               ? fmt::format("holds no {} topic", join(type_names, " or "))
+                               : fmt::format("holds {} {} topics ({}): pick one with --topic",
+                                             candidates.size(), kind, join(candidates)));
+  }
+  return *only;
 }
 
 bool ros_type_is(std::string_view type, std::string_view package_and_name) {

@@ -91,6 +91,13 @@ class BagFile {
   std::vector<BagTopic> topics_;
 };
 
+// The topic a reader takes, after the scan: `wanted` when given (an InputError naming it when the
+// bag has no such topic, listing those of `types`, or when it is of another type), else the bag's
+// one topic of `types` (an InputError when it has none, or several: listing them, "pick one with
+// --topic"). `kind` names the types in messages, e.g. "PointCloud2". Returns its index.
+std::size_t choose_topic(const BagFile& bag, const std::optional<std::string>& wanted,
+                         std::initializer_list<std::string_view> types, std::string_view kind);
+
 // A header stamp [ns] as seconds, rounded once from its decimal value: the same double as a file
 // named by that time ("000012.300000.pcd", 12 s + 300000000 ns) or a timestamps file's line.
 double stamp_seconds(std::int64_t stamp_ns);

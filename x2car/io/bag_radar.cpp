@@ -110,27 +110,9 @@ RadarLog read_radar_bag(const std::filesystem::path& path, const BagRadarOptions
     }
   });
 
-  std::vector<std::string> radar_topics;
-  const BagTopic* chosen = nullptr;
-  for (const BagTopic& topic : bag->topics()) {
-    if (is_radar_type(topic.type)) radar_topics.push_back(topic.name);
-    if (chosen_topic(topic) && chosen == nullptr) chosen = &topic;
-  }
-  if (options.topic && (chosen == nullptr || !is_radar_type(chosen->type))) {
-    throw InputError(
-        file, 0, *options.topic,
-        chosen == nullptr
-            ? fmt::format("no such topic; the radar topics: {}",
-                          radar_topics.empty() ? "none" : join(radar_topics))
-            : fmt::format("is {}, not {} or {}", chosen->type, kRadarScan, kRadarTracks));
-  }
-  if (!options.topic && radar_topics.size() != 1) {
-    throw InputError(file, radar_topics.empty()
-                               ? fmt::format("holds no {} or {} topic", kRadarScan, kRadarTracks)
-                               : fmt::format("holds {} radar topics ({}): pick one with --topic",
-                                             radar_topics.size(), join(radar_topics)));
-  }
-  if (stamped.empty()) throw InputError(file, 0, chosen->name, "the topic holds no detections");
+  const BagTopic& chosen =
+      bag->topics()[choose_topic(*bag, options.topic, {kRadarScan, kRadarTracks}, "radar")];
+  if (stamped.empty()) throw InputError(file, 0, chosen.name, "the topic holds no detections");
   std::ranges::stable_sort(stamped, {}, &StampedDetection::stamp_ns);
 
   RadarLog log;

@@ -50,30 +50,10 @@ BagSweeps sweeps_from_bag(const std::filesystem::path& path, const BagSweepOptio
         {.stamp_ns = header.stamp_ns, .ref = message.ref, .count = count});
   });
 
-  std::vector<std::string> cloud_topics;
-  std::optional<std::size_t> chosen;
-  for (std::size_t i = 0; i < bag->topics().size(); ++i) {
-    const io::BagTopic& topic = bag->topics()[i];
-    if (io::ros_type_is(topic.type, kPointCloud2)) cloud_topics.push_back(topic.name);
-    if (chosen_topic(topic) && !chosen) chosen = i;
-  }
-  if (options.topic && (!chosen || !io::ros_type_is(bag->topics()[*chosen].type, kPointCloud2))) {
-    throw InputError(file, 0, *options.topic,
-                     !chosen
-                         ? fmt::format("no such topic; the PointCloud2 topics: {}",
-                                       cloud_topics.empty() ? "none" : io::join(cloud_topics))
-                         : fmt::format("is {}, not {}", bag->topics()[*chosen].type, kPointCloud2));
-  }
-  if (!options.topic && cloud_topics.size() != 1) {
-    throw InputError(file, cloud_topics.empty()
-                               ? fmt::format("holds no {} topic for LiDAR sweeps", kPointCloud2)
-                               : fmt::format("holds {} PointCloud2 topics ({}): pick one with "
-                                             "--topic",
-                                             cloud_topics.size(), io::join(cloud_topics)));
-  }
-  const io::BagTopic topic = bag->topics()[*chosen];
+  const std::size_t chosen = io::choose_topic(*bag, options.topic, {kPointCloud2}, "PointCloud2");
+  const io::BagTopic topic = bag->topics()[chosen];
   std::vector<SweepMessage> sweeps =
-      *chosen < messages.size() ? std::move(messages[*chosen]) : std::vector<SweepMessage>{};
+      chosen < messages.size() ? std::move(messages[chosen]) : std::vector<SweepMessage>{};
   if (sweeps.empty()) throw InputError(file, 0, topic.name, "the topic holds no messages");
   std::ranges::stable_sort(sweeps, {}, &SweepMessage::stamp_ns);
 
