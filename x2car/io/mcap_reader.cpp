@@ -174,9 +174,11 @@ void decompress_zstd(std::string_view compressed, std::vector<char>& out, const 
   }
 }
 
-// A chunk record's content: its records, decompressed into `buffer` when compressed.
+// A chunk record's content: its records, decompressed into `buffer` when compressed; its CRC
+// checked when `check_crc` (a chunk read again was checked when the stream read it).
 std::string_view chunk_records(std::string_view content, const std::string& file,
-                               std::uint64_t offset, std::vector<char>& buffer) {
+                               std::uint64_t offset, std::vector<char>& buffer,
+                               bool check_crc = true) {
   Fields fields(content, file, offset);
   fields.integer<std::uint64_t>("chunk.message_start_time");
   fields.integer<std::uint64_t>("chunk.message_end_time");
@@ -220,7 +222,7 @@ std::string_view chunk_records(std::string_view content, const std::string& file
                                        "{} it declares",
                                        offset, records.size(), size));
   }
-  if (crc != 0) {
+  if (crc != 0 && check_crc) {
     const auto computed = static_cast<std::uint32_t>(
         ::crc32(0L, reinterpret_cast<const Bytef*>(plain.data()), static_cast<uInt>(plain.size())));
     if (computed != crc) {
@@ -333,17 +335,21 @@ std::string read_mcap_message(const std::filesystem::path& path, std::uint64_t c
   const std::string file = path.string();
   std::ifstream stream(path, std::ios::binary);
   if (!stream) throw InputError(file, "cannot open the file");
+  // Per thread, reused: a LiDAR's sweeps are read again one by one, a few megabytes each, and
+  // fresh buffers cost page faults and zeroing each time.
+  thread_local std::vector<char> content;
+  thread_local std::vector<char> buffer;
   const auto read_at = [&](std::uint64_t at, std::uint64_t count, const char* what) {
-    std::string bytes(count, '\0');
+    content.resize(count);
     stream.seekg(static_cast<std::streamoff>(at));
-    if (!stream.read(bytes.data(), static_cast<std::streamsize>(count))) {
+    if (!stream.read(content.data(), static_cast<std::streamsize>(count))) {
       throw InputError(
           file, fmt::format("cannot read {} at byte {} again (the file changed?)", what, at));
     }
-    return bytes;
+    return std::string_view(content.data(), content.size());
   };
-  if (chunk_offset == 0) return read_at(data_offset, size, "a message");
-  const std::string head = read_at(chunk_offset, 9, "a chunk");
+  if (chunk_offset == 0) return std::string(read_at(data_offset, size, "a message"));
+  const std::string head(read_at(chunk_offset, 9, "a chunk"));
   std::uint64_t length = 0;
   for (int i = 0; i < 8; ++i) {
     length |= static_cast<std::uint64_t>(static_cast<unsigned char>(head[1 + i])) << (8 * i);
@@ -351,9 +357,9 @@ std::string read_mcap_message(const std::filesystem::path& path, std::uint64_t c
   if (static_cast<std::uint8_t>(head[0]) != kChunk || length > (std::uint64_t{1} << 31)) {
     throw InputError(file, fmt::format("no chunk at byte {} (the file changed?)", chunk_offset));
   }
-  const std::string content = read_at(chunk_offset + 9, length, "a chunk");
-  std::vector<char> buffer;
-  const std::string_view records = chunk_records(content, file, chunk_offset, buffer);
+  const std::string_view chunk = read_at(chunk_offset + 9, length, "a chunk");
+  const std::string_view records =
+      chunk_records(chunk, file, chunk_offset, buffer, /*check_crc=*/false);
   if (data_offset > records.size() || size > records.size() - data_offset) {
     throw InputError(file, fmt::format("the chunk at byte {} does not hold the message at {} "
                                        "(the file changed?)",

@@ -75,8 +75,9 @@ bool looks_like_mcap(const std::filesystem::path& path);
 McapReadEnd read_mcap(const std::filesystem::path& path, const McapHandlers& handlers,
                       const McapReadOptions& options = {});
 
-// The data of one message that read_mcap delivered, read again (its chunk decompressed anew):
-// `message` gives chunk_offset, data_offset and the data's size. Throws InputError.
+// The data of one message that read_mcap delivered, read again: its chunk decompressed anew (its
+// CRC was checked by read_mcap) from the message's chunk_offset, data_offset and the data's size.
+// Throws InputError.
 std::string read_mcap_message(const std::filesystem::path& path, std::uint64_t chunk_offset,
                               std::uint64_t data_offset, std::uint64_t size);
 
