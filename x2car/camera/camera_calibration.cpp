@@ -24,6 +24,7 @@ void CameraCalibrationOptions::Check() const {
   check.positive("max_pair_gap_s", max_pair_gap_s);
   filter.Check();
   check.positive("max_window_disagreement", max_window_disagreement);
+  check.at_least("gravity_horizon_roll_floor", gravity_horizon_roll_floor, 0.0);
 }
 
 namespace {
@@ -328,6 +329,16 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
   result.pitch = estimate.angles.pitch;
   result.yaw = estimate.angles.yaw;
   result.roll_std = estimate.standard_error.roll;
+  if (!options.estimator && options.method == CameraMethod::kGeometric) {
+    // Gravity's horizon: the road's crossfall under the windows is in the roll (options).
+    result.roll_std = std::hypot(*result.roll_std, options.gravity_horizon_roll_floor);
+    result.diagnostics["gravity_horizon_roll_floor_deg"] =
+        deg_from_rad(options.gravity_horizon_roll_floor);
+    result.reason = fmt::format(
+        "roll from gravity's horizon: it carries the road's crossfall under the "
+        "windows, and its standard error includes {:.2g} deg for it",
+        deg_from_rad(options.gravity_horizon_roll_floor));
+  }
   result.pitch_std = estimate.standard_error.pitch;
   result.yaw_std = estimate.standard_error.yaw;
   const EulerAngles spread = window_spread(filter.windows());
@@ -343,8 +354,10 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
                     estimate.windows, deg_from_rad(spread.roll), deg_from_rad(spread.pitch),
                     deg_from_rad(spread.yaw), deg_from_rad(options.max_window_disagreement)));
   }
-  if (read_error)
-    result.reason = fmt::format("unreadable images skipped, the first: {}", *read_error);
+  if (read_error) {
+    result.reason += fmt::format("{}unreadable images skipped, the first: {}",
+                                 result.reason.empty() ? "" : "; ", *read_error);
+  }
   return result;
 }
 

@@ -69,6 +69,13 @@ struct CameraCalibrationOptions {
   // smallest); beyond it the result is unreliable: a steady but wrong stretch (a long curve of
   // constant radius, a road that leans one way) got through the filter.
   double max_window_disagreement = 0.01;
+  // Added in quadrature to the roll's standard error when the roll is gravity's horizon (the
+  // geometric estimator's, from the vertical vanishing point): the car sits on the road, whose
+  // cross slope tilts it against gravity, and a drive's windows share one side of the road. Road
+  // design puts that slope at 1.5-2.5 % on straight roads (0.9-1.4 deg, one way per driving
+  // direction); 0.6 deg as one standard error covers it at two [rad]. The road plane's horizon
+  // (motion, auto) does not carry it.
+  double gravity_horizon_roll_floor = rad_from_deg(0.6);
   // A frame whose `read` throws InputError (a truncated or corrupt image) is skipped and counted
   // (rejections["unreadable_image"], the first message in `reason`). Off: the InputError ends the
   // run. An image whose size is not the intrinsics' always ends it (the wrong intrinsics).

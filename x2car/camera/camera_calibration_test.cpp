@@ -61,6 +61,9 @@ TEST(CalibrateCamera, RecoversTheMountingOfAStreetDrive) {
   EXPECT_EQ(result.support.at("windows"), 3);
   EXPECT_EQ(result.support.at("frames_in_windows"), 36);
   EXPECT_GE(*result.pitch_std, TemporalFilterOptions{}.standard_error_floor.pitch);
+  // Gravity's horizon: the roll's standard error holds the road's crossfall, and the note says so.
+  EXPECT_GE(*result.roll_std, CameraCalibrationOptions{}.gravity_horizon_roll_floor);
+  EXPECT_THAT(result.reason, ::testing::HasSubstr("crossfall"));
   EXPECT_EQ(progress_calls.load(), 36U);
   // Per-frame series for plots: every frame estimated, all in windows.
   ASSERT_FALSE(result.series.empty());
