@@ -5,12 +5,15 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <map>
 #include <memory>
+#include <set>
 #include <stdexcept>
 #include <system_error>
 
 #include "x2car/core/error.hpp"
 #include "x2car/io/bag.hpp"
+#include "x2car/io/ros_message.hpp"
 #include "x2car/io/text_lines.hpp"
 #include "x2car/io/yaml_util.hpp"
 
@@ -208,58 +211,112 @@ DriveFolder read_drive_manifest(const fs::path& manifest) {
   }
 }
 
+namespace {
+
+// The kind of sensor a topic's type feeds, when it is one; the GNSS/INS topics apart.
+std::optional<SensorKind> sensor_kind_of(const std::string& type) {
+  if (ros_type_is(type, "sensor_msgs/PointCloud2")) return SensorKind::kLidar;
+  if (ros_type_is(type, "radar_msgs/RadarScan") || ros_type_is(type, "radar_msgs/RadarTracks")) {
+    return SensorKind::kRadar;
+  }
+  if (ros_type_is(type, "sensor_msgs/Image") || ros_type_is(type, "sensor_msgs/CompressedImage")) {
+    return SensorKind::kCamera;
+  }
+  return std::nullopt;
+}
+
+bool is_pose_type(const std::string& type) {
+  return ros_type_is(type, "nav_msgs/Odometry") || ros_type_is(type, "geometry_msgs/PoseStamped") ||
+         ros_type_is(type, "novatel_oem7_msgs/INSPVA") ||
+         ros_type_is(type, "novatel_oem7_msgs/INSPVAX");
+}
+
+// A frame or topic name as a sensor's name (letters, digits, _): "/sensing/lidar/top/points" ->
+// "sensing_lidar_top_points".
+std::string sensor_name_of(const std::string& text) {
+  std::string name;
+  for (const char c : text) {
+    const bool plain = std::isalnum(static_cast<unsigned char>(c)) != 0;
+    if (plain || !name.empty()) name += plain ? c : '_';
+  }
+  while (name.ends_with('_')) name.pop_back();
+  return name;
+}
+
+}  // namespace
+
 DriveFolder find_bag_sensors(const fs::path& path) {
   const std::unique_ptr<BagFile> bag = open_bag(path);
-  bag->scan([](const BagTopic&) { return false; }, [](const BagMessage&) {});
+  // Each sensor topic's frame (its first message's header.frame_id; Odometry's child_frame_id, the
+  // device's): the child frame its results are written for, as ROS and Autoware name it.
+  const auto wanted = [](const BagTopic& topic) {
+    return sensor_kind_of(topic.type).has_value() || is_pose_type(topic.type) ||
+           ros_type_is(topic.type, "sensor_msgs/NavSatFix");
+  };
+  std::map<std::size_t, std::string> frames;
+  bag->scan(wanted, [&](const BagMessage& message) {
+    const BagTopic& topic = bag->topics()[message.topic];
+    if (!wanted(topic) || frames.contains(message.topic)) return;
+    try {
+      RosMessageReader reader(message.data, ros_encoding_of(topic, path), path.string());
+      std::string frame = reader.header().frame_id;
+      if (ros_type_is(topic.type, "nav_msgs/Odometry")) frame = reader.string("child_frame_id");
+      if (ros_type_is(topic.type, "geometry_msgs/PoseStamped")) frame.clear();  // the world's
+      frames[message.topic] = frame;
+    } catch (const InputError&) {
+      frames[message.topic] = "";  // named by its topic; its own reader reports the error
+    }
+  });
   DriveFolder drive;
   drive.root = path;
-  const auto name_of = [](const std::string& topic) {
-    std::string name;
-    for (const char c : topic) {
-      const bool plain = std::isalnum(static_cast<unsigned char>(c)) != 0;
-      if (plain || !name.empty()) name += plain ? c : '_';
+  std::set<std::string> taken;
+  // The frame's name, a camera's optical frame as its body's; the topic's when there is no frame
+  // or another sensor has it.
+  const auto name_of = [&](std::size_t index, SensorKind kind) {
+    std::string frame = frames.contains(index) ? sensor_name_of(frames.at(index)) : "";
+    if (kind == SensorKind::kCamera) {
+      for (const std::string_view suffix : {"_optical_frame", "_optical"}) {
+        if (frame.ends_with(suffix)) frame = frame.substr(0, frame.size() - suffix.size());
+      }
     }
-    while (name.ends_with('_')) name.pop_back();
-    return name.empty() ? std::string("sensor") : name;
+    std::string name = !frame.empty() && !taken.contains(frame)
+                           ? frame
+                           : sensor_name_of(bag->topics()[index].name);
+    if (name.empty() || taken.contains(name)) name = fmt::format("sensor_{}", index);
+    taken.insert(name);
+    return name;
   };
-  std::vector<std::string> pose_topics;
-  std::vector<std::string> fix_topics;
-  for (const BagTopic& topic : bag->topics()) {
-    const std::string& type = topic.type;
-    const auto add = [&](SensorKind kind) {
-      DriveSensor sensor{name_of(topic.name), kind, path, {}, {}, {}, topic.name};
-      drive.sensors.push_back(std::move(sensor));
-    };
-    if (ros_type_is(type, "nav_msgs/Odometry") || ros_type_is(type, "geometry_msgs/PoseStamped") ||
-        ros_type_is(type, "novatel_oem7_msgs/INSPVA") ||
-        ros_type_is(type, "novatel_oem7_msgs/INSPVAX")) {
-      pose_topics.push_back(topic.name);
+  std::vector<std::size_t> pose_topics;
+  std::vector<std::size_t> fix_topics;
+  for (std::size_t i = 0; i < bag->topics().size(); ++i) {
+    const std::string& type = bag->topics()[i].type;
+    if (is_pose_type(type)) {
+      pose_topics.push_back(i);
     } else if (ros_type_is(type, "sensor_msgs/NavSatFix")) {
-      fix_topics.push_back(topic.name);
-    } else if (ros_type_is(type, "sensor_msgs/PointCloud2")) {
-      add(SensorKind::kLidar);
-    } else if (ros_type_is(type, "radar_msgs/RadarScan") ||
-               ros_type_is(type, "radar_msgs/RadarTracks")) {
-      add(SensorKind::kRadar);
-    } else if (ros_type_is(type, "sensor_msgs/Image") ||
-               ros_type_is(type, "sensor_msgs/CompressedImage")) {
-      add(SensorKind::kCamera);
+      fix_topics.push_back(i);
+    } else if (const std::optional<SensorKind> kind = sensor_kind_of(type)) {
+      drive.sensors.push_back(
+          DriveSensor{name_of(i, *kind), *kind, path, {}, {}, {}, bag->topics()[i].name});
     }
   }
   if (pose_topics.size() > 1) {
+    std::vector<std::string> names;
+    for (const std::size_t i : pose_topics) names.push_back(bag->topics()[i].name);
     throw InputError(path.string(),
                      fmt::format("holds {} pose topics ({}): calibrate the GNSS/INS with "
                                  "`calibrate ins --topic`, or name each sensor's topic in an "
                                  "x2car.yaml manifest",
-                                 pose_topics.size(), join(pose_topics)));
+                                 names.size(), join(names)));
   }
-  const std::vector<std::string>& ins = pose_topics.empty() ? fix_topics : pose_topics;
+  const std::vector<std::size_t>& ins = pose_topics.empty() ? fix_topics : pose_topics;
   if (ins.size() == 1) {
+    const std::string& topic = bag->topics()[ins.front()].name;
     drive.ins_log = path;
-    drive.ins_topic = ins.front();
+    drive.ins_topic = topic;
     drive.sensors.insert(
         drive.sensors.begin(),
-        DriveSensor{name_of(ins.front()), SensorKind::kIns, path, {}, {}, {}, ins.front()});
+        DriveSensor{
+            name_of(ins.front(), SensorKind::kIns), SensorKind::kIns, path, {}, {}, {}, topic});
   }
   if (drive.sensors.empty()) {
     throw InputError(path.string(), "holds no topic a calibrator reads (x2car inspect lists them)");

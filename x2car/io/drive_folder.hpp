@@ -70,8 +70,11 @@ DriveFolder find_drive_sensors(const std::filesystem::path& root);
 
 // The sensors of a bag (io/bag.hpp): the GNSS/INS when it has one pose topic (Odometry,
 // PoseStamped, INSPVA; else one NavSatFix), a LiDAR per PointCloud2 topic, a radar per RadarScan
-// or RadarTracks topic, a camera per Image or CompressedImage topic; each named by its topic
-// ("/sensing/lidar/top/points" -> "sensing_lidar_top_points"), its input the bag. InputError
+// or RadarTracks topic, a camera per Image or CompressedImage topic; each named by its frame (its
+// first message's header.frame_id; Odometry's child_frame_id; a camera's optical frame as its body
+// frame, "camera_front_optical_frame" -> "camera_front"), as ROS and Autoware name the child
+// frames, else (no frame, or one another sensor has) by its topic ("/sensing/lidar/top/points" ->
+// "sensing_lidar_top_points"); its input the bag. InputError
 // naming the bag when it holds no such topic, or several pose topics (calibrate ins --topic
 // picks one).
 DriveFolder find_bag_sensors(const std::filesystem::path& bag);
