@@ -157,6 +157,9 @@ BagFrames camera_frames_from_bag(const std::filesystem::path& path,
   std::map<std::size_t, std::string> first_info;  // CameraInfo topics: their first message
   std::vector<std::size_t> counts;
   std::map<std::size_t, std::string> frame_ids;  // per image topic: its first header.frame_id
+  // The scan reads each frame's header alone where the container allows (64 KiB holds it, and a
+  // CameraInfo message whole).
+  constexpr std::size_t kHeaderBytes = 64 * 1024;
   bag->scan(
       [&](const io::BagTopic& topic) {
         return chosen_topic(topic) || io::ros_type_is(topic.type, kCameraInfo);
@@ -179,7 +182,8 @@ BagFrames camera_frames_from_bag(const std::filesystem::path& path,
         frame_ids.emplace(message.topic, header.frame_id);
         messages[message.topic].push_back(
             {.stamp_ns = header.stamp_ns, .ref = message.ref, .count = count});
-      });
+      },
+      kHeaderBytes);
 
   const std::size_t chosen =
       io::choose_topic(*bag, options.topic, {kImage, kCompressedImage}, "image");

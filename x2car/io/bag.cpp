@@ -26,8 +26,10 @@ class McapBag final : public BagFile {
 
   BagContainer container() const override { return BagContainer::kMcap; }
 
-  BagScanEnd scan(const std::function<bool(const BagTopic&)>& wanted,
-                  const std::function<void(const BagMessage&)>& on_message) override {
+  BagScanEnd scan_messages(
+      const std::function<bool(const BagTopic&)>& wanted,
+      const std::function<void(const BagMessage&)>& on_message,
+      std::size_t /*data_prefix: the whole message is there anyway*/) override {
     std::map<std::uint16_t, McapSchema> schemas;
     std::map<std::uint16_t, std::size_t> topic_of_channel;
     std::vector<bool> topic_wanted(topics_.size(), false);

@@ -78,15 +78,23 @@ class BagFile {
   const std::vector<BagTopic>& topics() const { return topics_; }
 
   // Every message, in file order (MCAP) or time order (ROS 1 and 2 bags); the data of topics for
-  // which `wanted` is true (all when it is empty). Throws InputError naming the file and, where
-  // the container says, the byte offset.
-  virtual BagScanEnd scan(const std::function<bool(const BagTopic&)>& wanted,
-                          const std::function<void(const BagMessage&)>& on_message) = 0;
+  // which `wanted` is true (all when it is empty). `data_prefix` > 0: only that many of each
+  // message's first bytes are needed (its header, when the data is read again later), which a
+  // ROS 2 bag then reads alone (MCAP and ROS 1 give the whole message anyway). Throws InputError
+  // naming the file and, where the container says, the byte offset.
+  BagScanEnd scan(const std::function<bool(const BagTopic&)>& wanted,
+                  const std::function<void(const BagMessage&)>& on_message,
+                  std::size_t data_prefix = 0) {
+    return scan_messages(wanted, on_message, data_prefix);
+  }
   // The data of a message that scan delivered with data. Safe to call from several threads.
   virtual std::string read(const BagMessageRef& ref) const = 0;
 
  protected:
   explicit BagFile(std::filesystem::path path) : path_(std::move(path)) {}
+  virtual BagScanEnd scan_messages(const std::function<bool(const BagTopic&)>& wanted,
+                                   const std::function<void(const BagMessage&)>& on_message,
+                                   std::size_t data_prefix) = 0;
   std::filesystem::path path_;
   std::vector<BagTopic> topics_;
 };

@@ -65,8 +65,10 @@ class Ros1Bag final : public BagFile {
 
   BagContainer container() const override { return BagContainer::kRos1; }
 
-  BagScanEnd scan(const std::function<bool(const BagTopic&)>& wanted,
-                  const std::function<void(const BagMessage&)>& on_message) override {
+  BagScanEnd scan_messages(
+      const std::function<bool(const BagTopic&)>& wanted,
+      const std::function<void(const BagMessage&)>& on_message,
+      std::size_t /*data_prefix: the whole message is there anyway*/) override {
     std::vector<bool> topic_wanted;
     for (const BagTopic& topic : topics_) topic_wanted.push_back(!wanted || wanted(topic));
     std::string buffer;

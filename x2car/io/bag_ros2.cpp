@@ -7,6 +7,7 @@
 #include <sqlite3.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -54,8 +55,9 @@ class Ros2SqliteBag final : public BagFile {
 
   BagContainer container() const override { return BagContainer::kRos2Sqlite; }
 
-  BagScanEnd scan(const std::function<bool(const BagTopic&)>& wanted,
-                  const std::function<void(const BagMessage&)>& on_message) override {
+  BagScanEnd scan_messages(const std::function<bool(const BagTopic&)>& wanted,
+                           const std::function<void(const BagMessage&)>& on_message,
+                           std::size_t data_prefix) override {
     std::vector<bool> topic_wanted;
     for (const BagTopic& topic : topics_) topic_wanted.push_back(!wanted || wanted(topic));
     for (std::size_t part = 0; part < files_.size(); ++part) {
@@ -75,7 +77,10 @@ class Ros2SqliteBag final : public BagFile {
         message.ref = {.part = part,
                        .at = static_cast<std::uint64_t>(sqlite3_column_int64(messages.get(), 0)),
                        .size = 0};
-        if (topic_wanted[message.topic]) message.data = blob(messages.get(), 3);
+        if (topic_wanted[message.topic]) {
+          message.data = data_prefix > 0 ? blob_prefix(part, message.ref.at, data_prefix)
+                                         : blob(messages.get(), 3);
+        }
         on_message(message);
       }
     }
@@ -126,6 +131,27 @@ class Ros2SqliteBag final : public BagFile {
                      fmt::format("cannot read it: {}", sqlite3_errmsg(databases_[part].get())));
   }
 
+  // The first `count` bytes of a message's data through SQLite's incremental blob I/O: a LiDAR
+  // sweep's megabytes stay on disk while the scan reads its header.
+  std::string_view blob_prefix(std::size_t part, std::uint64_t row, std::size_t count) {
+    sqlite3_blob* raw = nullptr;
+    if (sqlite3_blob_open(databases_[part].get(), "main", "messages", "data",
+                          static_cast<sqlite3_int64>(row), 0, &raw) != SQLITE_OK) {
+      sqlite3_blob_close(raw);
+      throw InputError(files_[part].string(), fmt::format("cannot read message {}: {}", row,
+                                                          sqlite3_errmsg(databases_[part].get())));
+    }
+    const int size = std::min(sqlite3_blob_bytes(raw), static_cast<int>(count));
+    prefix_.resize(static_cast<std::size_t>(size));
+    const int code = sqlite3_blob_read(raw, prefix_.data(), size, 0);
+    sqlite3_blob_close(raw);
+    if (code != SQLITE_OK) {
+      throw InputError(files_[part].string(),
+                       fmt::format("cannot read message {}: {}", row, sqlite3_errstr(code)));
+    }
+    return prefix_;
+  }
+
   static std::string text(sqlite3_stmt* statement, int column) {
     const unsigned char* value = sqlite3_column_text(statement, column);
     return value == nullptr ? std::string() : std::string(reinterpret_cast<const char*>(value));
@@ -143,6 +169,7 @@ class Ros2SqliteBag final : public BagFile {
   std::vector<Database> databases_;
   std::vector<std::map<std::int64_t, std::size_t>> topic_of_id_;
   mutable std::mutex mutex_;
+  std::string prefix_;  // the scan's current message prefix
 };
 
 // metadata.yaml's storage and files.

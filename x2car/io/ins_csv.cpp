@@ -220,7 +220,10 @@ Layout parse_header(const TextLine& header, const InsCsvOptions& options,
   std::optional<InputError> duplicate;  // reported after the missing columns
   // --columns: a header name the user mapped reads as the quantity it was mapped to.
   std::vector<std::string> mapped_names;
-  for (const auto& [quantity, header_name] : options.column_names) {
+  for (const auto& mapping : options.column_names) {
+    // Named, not bound: a lambda may not capture a structured binding before C++20's clang 16.
+    const std::string& quantity = mapping.first;
+    const std::string& header_name = mapping.second;
     const bool present = std::ranges::any_of(names, [&](std::string_view name) {
       return lower_case(trim(name)) == lower_case(header_name);
     });

@@ -36,19 +36,24 @@ BagSweeps sweeps_from_bag(const std::filesystem::path& path, const BagSweepOptio
   std::vector<std::vector<SweepMessage>> messages;
   std::vector<std::size_t> counts;
   std::string frame_id;
-  bag->scan(chosen_topic, [&](const io::BagMessage& message) {
-    messages.resize(bag->topics().size());
-    counts.resize(bag->topics().size(), 0);
-    const std::size_t count = ++counts[message.topic];
-    const io::BagTopic& topic = bag->topics()[message.topic];
-    if (!chosen_topic(topic) || !io::ros_type_is(topic.type, kPointCloud2)) return;
-    const std::string source = fmt::format("{} ({} message {})", file, topic.name, count);
-    const io::RosHeader header =
-        io::read_point_cloud2_header(message.data, io::ros_encoding_of(topic, path), source);
-    if (messages[message.topic].empty()) frame_id = header.frame_id;
-    messages[message.topic].push_back(
-        {.stamp_ns = header.stamp_ns, .ref = message.ref, .count = count});
-  });
+  // The scan reads each sweep's header alone where the container allows (64 KiB holds it).
+  constexpr std::size_t kHeaderBytes = 64 * 1024;
+  bag->scan(
+      chosen_topic,
+      [&](const io::BagMessage& message) {
+        messages.resize(bag->topics().size());
+        counts.resize(bag->topics().size(), 0);
+        const std::size_t count = ++counts[message.topic];
+        const io::BagTopic& topic = bag->topics()[message.topic];
+        if (!chosen_topic(topic) || !io::ros_type_is(topic.type, kPointCloud2)) return;
+        const std::string source = fmt::format("{} ({} message {})", file, topic.name, count);
+        const io::RosHeader header =
+            io::read_point_cloud2_header(message.data, io::ros_encoding_of(topic, path), source);
+        if (messages[message.topic].empty()) frame_id = header.frame_id;
+        messages[message.topic].push_back(
+            {.stamp_ns = header.stamp_ns, .ref = message.ref, .count = count});
+      },
+      kHeaderBytes);
 
   const std::size_t chosen = io::choose_topic(*bag, options.topic, {kPointCloud2}, "PointCloud2");
   const io::BagTopic topic = bag->topics()[chosen];
