@@ -16,9 +16,9 @@
 // <temp>/x2car_bag_bench and reused; each file is read once before the timing, so that the numbers
 // are of decoding from the page cache, not of the disk. A bag that cannot be made (node or the
 // tests' npm packages missing, write_ros1_bag not built) skips its benchmark with the reason.
-// Measured (2-core reference machine, idle), seconds per minute of data: PCD folder 0.73; ROS 1
-// 0.60; MCAP uncompressed 0.92, lz4 1.77, zstd 3.53 (each chunk decompressed twice: in the scan
-// and when its sweep is read); ROS 2 sqlite3 1.06 (docs/formats.md, "Speed").
+// Measured (2-core reference machine, idle), seconds per minute of data: PCD folder 0.67-0.74;
+// ROS 1 0.60-0.64; ROS 2 sqlite3 0.71; MCAP uncompressed 0.90, lz4 1.77, zstd 3.53 (each chunk
+// decompressed twice: in the scan and when its sweep is read) (docs/formats.md, "Speed").
 #include <benchmark/benchmark.h>
 
 #include <chrono>

@@ -8,6 +8,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -60,10 +61,12 @@ class Ros2SqliteBag final : public BagFile {
                            std::size_t data_prefix) override {
     std::vector<bool> topic_wanted;
     for (const BagTopic& topic : topics_) topic_wanted.push_back(!wanted || wanted(topic));
+    std::string data;  // the current message's
     for (std::size_t part = 0; part < files_.size(); ++part) {
-      // The data column is read only for wanted topics: SQLite loads a blob when asked for it.
-      Statement messages = prepare(
-          part, "SELECT id, topic_id, timestamp, data FROM messages ORDER BY timestamp, id");
+      // The data column is not in the query (ordering would carry every blob through the sorter);
+      // a wanted message's data is read by its row through the incremental blob I/O.
+      Statement messages =
+          prepare(part, "SELECT id, topic_id, timestamp FROM messages ORDER BY timestamp, id");
       while (step(part, messages.get())) {
         const std::int64_t topic_id = sqlite3_column_int64(messages.get(), 1);
         const auto topic = topic_of_id_[part].find(topic_id);
@@ -78,8 +81,8 @@ class Ros2SqliteBag final : public BagFile {
                        .at = static_cast<std::uint64_t>(sqlite3_column_int64(messages.get(), 0)),
                        .size = 0};
         if (topic_wanted[message.topic]) {
-          message.data = data_prefix > 0 ? blob_prefix(part, message.ref.at, data_prefix)
-                                         : blob(messages.get(), 3);
+          read_blob(part, message.ref.at, data_prefix > 0 ? data_prefix : kWholeMessage, data);
+          message.data = data;
         }
         on_message(message);
       }
@@ -91,13 +94,9 @@ class Ros2SqliteBag final : public BagFile {
     // One connection per file, used by one thread at a time.
     const std::lock_guard lock(mutex_);
     if (ref.part >= files_.size()) throw std::out_of_range("Ros2SqliteBag::read: no such file");
-    Statement statement = prepare(ref.part, "SELECT data FROM messages WHERE id = ?");
-    sqlite3_bind_int64(statement.get(), 1, static_cast<sqlite3_int64>(ref.at));
-    if (!step(ref.part, statement.get())) {
-      throw InputError(files_[ref.part].string(),
-                       fmt::format("message {} is gone (the file changed?)", ref.at));
-    }
-    return std::string(blob(statement.get(), 0));
+    std::string data;
+    read_blob(ref.part, ref.at, kWholeMessage, data);
+    return data;
   }
 
  private:
@@ -131,9 +130,12 @@ class Ros2SqliteBag final : public BagFile {
                      fmt::format("cannot read it: {}", sqlite3_errmsg(databases_[part].get())));
   }
 
-  // The first `count` bytes of a message's data through SQLite's incremental blob I/O: a LiDAR
-  // sweep's megabytes stay on disk while the scan reads its header.
-  std::string_view blob_prefix(std::size_t part, std::uint64_t row, std::size_t count) {
+  static constexpr std::size_t kWholeMessage = std::numeric_limits<int>::max();
+
+  // The first `count` bytes of a message's data (all of it when shorter) into `out`, through
+  // SQLite's incremental blob I/O: the scan reads a LiDAR sweep's header while its megabytes stay
+  // on disk, and a read copies the data once, into `out`.
+  void read_blob(std::size_t part, std::uint64_t row, std::size_t count, std::string& out) const {
     sqlite3_blob* raw = nullptr;
     if (sqlite3_blob_open(databases_[part].get(), "main", "messages", "data",
                           static_cast<sqlite3_int64>(row), 0, &raw) != SQLITE_OK) {
@@ -141,15 +143,14 @@ class Ros2SqliteBag final : public BagFile {
       throw InputError(files_[part].string(), fmt::format("cannot read message {}: {}", row,
                                                           sqlite3_errmsg(databases_[part].get())));
     }
-    const int size = std::min(sqlite3_blob_bytes(raw), static_cast<int>(count));
-    prefix_.resize(static_cast<std::size_t>(size));
-    const int code = sqlite3_blob_read(raw, prefix_.data(), size, 0);
+    const auto size = std::min(static_cast<std::size_t>(sqlite3_blob_bytes(raw)), count);
+    out.resize(size);
+    const int code = sqlite3_blob_read(raw, out.data(), static_cast<int>(size), 0);
     sqlite3_blob_close(raw);
     if (code != SQLITE_OK) {
       throw InputError(files_[part].string(),
                        fmt::format("cannot read message {}: {}", row, sqlite3_errstr(code)));
     }
-    return prefix_;
   }
 
   static std::string text(sqlite3_stmt* statement, int column) {
@@ -157,19 +158,10 @@ class Ros2SqliteBag final : public BagFile {
     return value == nullptr ? std::string() : std::string(reinterpret_cast<const char*>(value));
   }
 
-  static std::string_view blob(sqlite3_stmt* statement, int column) {
-    const void* data = sqlite3_column_blob(statement, column);
-    const int size = sqlite3_column_bytes(statement, column);
-    return data == nullptr
-               ? std::string_view()
-               : std::string_view(static_cast<const char*>(data), static_cast<std::size_t>(size));
-  }
-
   std::vector<std::filesystem::path> files_;
   std::vector<Database> databases_;
   std::vector<std::map<std::int64_t, std::size_t>> topic_of_id_;
   mutable std::mutex mutex_;
-  std::string prefix_;  // the scan's current message prefix
 };
 
 // metadata.yaml's storage and files.
