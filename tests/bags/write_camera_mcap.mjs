@@ -19,13 +19,12 @@
 // then the image).
 //   node write_camera_mcap.mjs DRIVE_DIR OUT.mcap [--raw mono8|rgb8|bgr8] [--topic T] [--no-info]
 //                              [--ins]
-import { McapWriter } from '@mcap/core';
 import { MessageWriter } from '@foxglove/rosmsg2-serialization';
-import * as zstd from '@foxglove/wasm-zstd';
 import { PNG } from 'pngjs';
 import fs from 'node:fs';
 import path from 'node:path';
 import { definitionsOf, readInsCsv, odometryMessage } from './ins_odometry.mjs';
+import { openMcap } from './mcap_file.mjs';
 
 const usage = 'usage: node write_camera_mcap.mjs DRIVE_DIR OUT.mcap [--raw mono8|rgb8|bgr8] ' +
               '[--topic T] [--no-info] [--ins]';
@@ -52,7 +51,6 @@ const imageTopic = options.topic ??
 // The info beside the image, in its namespace (the image topic less its last name, and less a
 // transport's /compressed): /camera/camera_info for /camera/image_raw[/compressed].
 const infoTopic = imageTopic.replace(/\/compressed$/, '').replace(/\/[^/]*$/, '') + '/camera_info';
-await zstd.isLoaded;
 
 const cameraDir = path.join(driveDir, 'camera');
 const fail = (message) => { console.error('write_camera_mcap: ' + message); process.exit(1); };
@@ -121,25 +119,8 @@ const frames = imageNames.map((name, i) => ({
   ...parseStamp(stampLines[i], `timestamps.txt line ${i + 1}`),
 }));
 
-// Written to the file as it goes: a drive's raw images are a megabyte or more each.
-class FileSink {
-  constructor(file) { this.fd = fs.openSync(file, 'w'); this.size = 0n; }
-  position() { return this.size; }
-  async write(bytes) { fs.writeSync(this.fd, bytes); this.size += BigInt(bytes.byteLength); }
-  close() { fs.closeSync(this.fd); }
-}
-const sink = new FileSink(outPath);
-const mcap = new McapWriter({
-  writable: sink, useChunks: true, chunkSize: 1024 * 1024,
-  compressChunk: (data) => ({ compression: 'zstd', compressedData: zstd.compress(data, 3) }),
-});
-await mcap.start({ profile: 'ros2', library: 'x2car fixtures (@mcap/core, rosmsg2-serialization)' });
-async function channel(topic, type) {
-  const schemaId = await mcap.registerSchema({
-    name: type, encoding: 'ros2msg',
-    data: new TextEncoder().encode('# ' + type + ' (ROS 2 Jazzy)') });
-  return mcap.registerChannel({ topic, schemaId, messageEncoding: 'cdr', metadata: new Map() });
-}
+const file = await openMcap(outPath);
+const channel = (topic, type) => file.channel(topic, type);
 
 // A decoded PNG (pngjs gives 8-bit RGBA whatever the file's kind) as the pixels of an encoding.
 function rawImage(png, encoding) {
@@ -157,7 +138,6 @@ function rawImage(png, encoding) {
 
 // Every message as { stampNs, channelId, serialize }, serialized only when written.
 const messages = [];
-const byStamp = (a, b) => (a.stampNs < b.stampNs ? -1 : a.stampNs > b.stampNs ? 1 : 0);
 if (flags.ins) {
   const odomWriter = new MessageWriter(definitionsOf('nav_msgs/Odometry'));
   const odom = await channel('/odom', 'nav_msgs/msg/Odometry');
@@ -204,12 +184,4 @@ if (options.raw) {
     messages.push({ stampNs, channelId: imageChannel, serialize });
   }
 }
-messages.sort(byStamp);
-const sequence = new Map();
-for (const m of messages) {
-  sequence.set(m.channelId, (sequence.get(m.channelId) ?? 0) + 1);
-  await mcap.addMessage({ channelId: m.channelId, sequence: sequence.get(m.channelId),
-                          logTime: m.stampNs, publishTime: m.stampNs, data: m.serialize() });
-}
-await mcap.end();
-sink.close();
+await file.writeInTimeOrder(messages);

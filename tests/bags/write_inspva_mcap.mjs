@@ -9,12 +9,10 @@
 // gives Oem7Header two more fields (as newer drivers have), which a reader must take from the
 // definition rather than a fixed layout.
 //   node write_inspva_mcap.mjs INS_CSV OUT.mcap [--extra-fields]
-import { McapWriter } from '@mcap/core';
 import { MessageWriter } from '@foxglove/rosmsg2-serialization';
 import { parse } from '@foxglove/rosmsg';
-import * as zstd from '@foxglove/wasm-zstd';
-import fs from 'node:fs';
 import { readInsCsv } from './ins_odometry.mjs';
+import { openMcap } from './mcap_file.mjs';
 import { deg, eulerOf, matrixOf, multiply, placed } from './geodesy.mjs';
 
 const args = process.argv.slice(2);
@@ -26,7 +24,6 @@ if (args.length !== 2) {
   console.error('usage: node write_inspva_mcap.mjs INS_CSV OUT.mcap [--extra-fields]');
   process.exit(2);
 }
-await zstd.isLoaded;
 
 const separator = '\n================================================================================\n';
 const definition = [
@@ -44,17 +41,10 @@ const definition = [
 ].join(separator);
 const writer = new MessageWriter(parse(definition, { ros2: true }));
 
-const sink = { fd: fs.openSync(outPath, 'w'), size: 0n };
-const mcap = new McapWriter({
-  writable: { position: () => sink.size,
-              write: async (bytes) => { fs.writeSync(sink.fd, bytes); sink.size += BigInt(bytes.byteLength); } },
-  useChunks: true, chunkSize: 1024 * 1024,
-  compressChunk: (data) => ({ compression: 'zstd', compressedData: zstd.compress(data, 3) }) });
-await mcap.start({ profile: 'ros2', library: 'x2car fixtures (@mcap/core, rosmsg2-serialization)' });
-const schemaId = await mcap.registerSchema({ name: 'novatel_oem7_msgs/msg/INSPVA', encoding: 'ros2msg',
-                                             data: new TextEncoder().encode(definition) });
-const channelId = await mcap.registerChannel({ topic: '/novatel/oem7/inspva', schemaId,
-                                               messageEncoding: 'cdr', metadata: new Map() });
+const file = await openMcap(outPath);
+const channelId = await file.channel('/novatel/oem7/inspva', 'novatel_oem7_msgs/msg/INSPVA',
+                                     definition);
+const messages = [];
 let sequence = 0;
 for (const { sec, nanosec, stampNs, pose, body } of readInsCsv(csvPath)) {
   const { lat, lon, h, localFromFlat, localAttitude } = placed(pose);
@@ -69,7 +59,7 @@ for (const { sec, nanosec, stampNs, pose, body } of readInsCsv(csvPath)) {
     header: { stamp: { sec, nanosec }, frame_id: 'gps' }, nov_header, latitude: lat / deg,
     longitude: lon / deg, height: h, north_velocity: north, east_velocity: east, up_velocity: up,
     roll: roll / deg, pitch: -pitch / deg, azimuth, status: { status: 3 } });
-  await mcap.addMessage({ channelId, sequence: ++sequence, logTime: stampNs, publishTime: stampNs, data });
+  ++sequence;
+  messages.push({ stampNs, channelId, serialize: () => data });
 }
-await mcap.end();
-fs.closeSync(sink.fd);
+await file.write(messages);

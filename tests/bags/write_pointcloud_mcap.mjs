@@ -14,13 +14,11 @@
 // a reader must order the sweeps by their stamps.
 //   node write_pointcloud_mcap.mjs PCD_DIR OUT.mcap [--layout NAME] [--compression zstd|lz4|none]
 //                                  [--topic T] [--ins INS_CSV] [--tf-static TRANSFORMS] [--late N]
-import { McapWriter } from '@mcap/core';
 import { MessageWriter } from '@foxglove/rosmsg2-serialization';
-import * as zstd from '@foxglove/wasm-zstd';
-import lz4 from 'lz4js';
 import fs from 'node:fs';
 import { definitionsOf, readInsCsv, odometryMessage } from './ins_odometry.mjs';
 import { layouts, lidarSweeps, pointCloudMessage } from './pointcloud2.mjs';
+import { compressions, openMcap } from './mcap_file.mjs';
 
 const usage = 'usage: node write_pointcloud_mcap.mjs PCD_DIR OUT.mcap [--layout NAME] ' +
               '[--compression zstd|lz4|none] [--topic T] [--ins INS_CSV] [--tf-static TRANSFORMS] ' +
@@ -37,33 +35,12 @@ for (let i = 0; i < args.length; ++i) {
 }
 const [pcdDir, outPath] = positional;
 if (positional.length !== 2 || !Object.hasOwn(layouts, options.layout) ||
-    !['zstd', 'lz4', 'none'].includes(options.compression)) {
+    !compressions.includes(options.compression)) {
   console.error(usage + '\n  layouts: ' + Object.keys(layouts).join(', '));
   process.exit(2);
 }
-await zstd.isLoaded;
-
-// Written to the file as it goes: a drive's sweeps are a megabyte each.
-class FileSink {
-  constructor(file) { this.fd = fs.openSync(file, 'w'); this.size = 0n; }
-  position() { return this.size; }
-  async write(bytes) { fs.writeSync(this.fd, bytes); this.size += BigInt(bytes.byteLength); }
-  close() { fs.closeSync(this.fd); }
-}
-const compressors = {
-  zstd: (data) => ({ compression: 'zstd', compressedData: zstd.compress(data, 3) }),
-  lz4: (data) => ({ compression: 'lz4', compressedData: lz4.compress(data) }),
-  none: undefined,  // chunks stored as they are
-};
-const sink = new FileSink(outPath);
-const mcap = new McapWriter({ writable: sink, useChunks: true, chunkSize: 1024 * 1024,
-                              compressChunk: compressors[options.compression] });
-await mcap.start({ profile: 'ros2', library: 'x2car fixtures (@mcap/core, rosmsg2-serialization)' });
-async function channel(topic, type) {
-  const schemaId = await mcap.registerSchema({
-    name: type, encoding: 'ros2msg', data: new TextEncoder().encode('# ' + type + ' (ROS 2 Jazzy)') });
-  return mcap.registerChannel({ topic, schemaId, messageEncoding: 'cdr', metadata: new Map() });
-}
+const file = await openMcap(outPath, { compression: options.compression });
+const channel = (topic, type) => file.channel(topic, type);
 
 // Every message as { stampNs, channelId, serialize }, serialized only when written; in time order
 // (a stable sort: at one stamp, the odometry first).
@@ -107,11 +84,4 @@ if (options.late) {
     [messages[i], messages[j]] = [messages[j], messages[i]];
   }
 }
-const sequence = new Map();
-for (const m of messages) {
-  sequence.set(m.channelId, (sequence.get(m.channelId) ?? 0) + 1);
-  await mcap.addMessage({ channelId: m.channelId, sequence: sequence.get(m.channelId),
-                          logTime: m.stampNs, publishTime: m.stampNs, data: m.serialize() });
-}
-await mcap.end();
-sink.close();
+await file.write(messages);

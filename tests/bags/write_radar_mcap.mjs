@@ -22,13 +22,12 @@
 // (they differ in the last bits, and by up to 0.5 ns past 9 decimals), and JavaScript's hypot and
 // atan2 may differ from the C library's in the last bit.
 //   node write_radar_mcap.mjs DRIVE_DIR OUT.mcap [--tracks] [--topic T] [--csv OUT.csv]
-import { McapWriter } from '@mcap/core';
 import { MessageWriter } from '@foxglove/rosmsg2-serialization';
 import { parse } from '@foxglove/rosmsg';
-import * as zstd from '@foxglove/wasm-zstd';
 import fs from 'node:fs';
 import path from 'node:path';
 import { definitionsOf, readInsCsv, odometryMessage } from './ins_odometry.mjs';
+import { openMcap } from './mcap_file.mjs';
 
 const usage = 'usage: node write_radar_mcap.mjs DRIVE_DIR OUT.mcap [--tracks] [--topic T] ' +
               '[--csv OUT.csv]';
@@ -45,7 +44,6 @@ for (let i = 0; i < args.length; ++i) {
 if (positional.length !== 2) { console.error(usage); process.exit(2); }
 const [driveDir, outPath] = positional;
 options.topic ??= options.tracks ? '/radar/tracks' : '/radar/scan';
-await zstd.isLoaded;
 
 // ---- definitions -------------------------------------------------------------------------------
 
@@ -217,23 +215,8 @@ function csvText(groups) {
 
 const groups = readDetections(path.join(driveDir, 'radar', 'detections.csv'));
 
-class Sink {
-  constructor() { this.parts = []; this.size = 0n; }
-  position() { return this.size; }
-  async write(bytes) { this.parts.push(Buffer.from(bytes)); this.size += BigInt(bytes.byteLength); }
-}
-const sink = new Sink();
-const mcap = new McapWriter({
-  writable: sink, useChunks: true, chunkSize: 1024 * 1024,
-  compressChunk: (data) => ({ compression: 'zstd', compressedData: zstd.compress(data, 3) }),
-});
-await mcap.start({ profile: 'ros2',
-                   library: 'x2car fixtures (@mcap/core, rosmsg2-serialization, rosmsg)' });
-async function channel(topic, type, text) {
-  const schemaId = await mcap.registerSchema({
-    name: type, encoding: 'ros2msg', data: new TextEncoder().encode(text) });
-  return mcap.registerChannel({ topic, schemaId, messageEncoding: 'cdr', metadata: new Map() });
-}
+const file = await openMcap(outPath);
+const channel = (topic, type, text) => file.channel(topic, type, text);
 
 // Every message as { stampNs, channelId, serialize }, in time order (a stable sort: at one stamp,
 // the odometry first).
@@ -254,13 +237,5 @@ for (const group of groups) {
   messages.push({ stampNs: group.stamp.stampNs, channelId: radar,
                   serialize: () => radarWriter.writeMessage(message) });
 }
-messages.sort((a, b) => (a.stampNs < b.stampNs ? -1 : a.stampNs > b.stampNs ? 1 : 0));
-const sequence = new Map();
-for (const m of messages) {
-  sequence.set(m.channelId, (sequence.get(m.channelId) ?? 0) + 1);
-  await mcap.addMessage({ channelId: m.channelId, sequence: sequence.get(m.channelId),
-                          logTime: m.stampNs, publishTime: m.stampNs, data: m.serialize() });
-}
-await mcap.end();
-fs.writeFileSync(outPath, Buffer.concat(sink.parts));
+await file.writeInTimeOrder(messages);
 if (options.csv) fs.writeFileSync(options.csv, csvText(groups));
