@@ -64,29 +64,6 @@ Unsigned load(const char* at, bool big_endian) {
   return std::bit_cast<Unsigned>(bytes);
 }
 
-// One field of one point as a double.
-double value_of(const char* point, const Field& field, bool big_endian) {
-  const char* at = point + field.offset;
-  switch (field.datatype) {
-    case kInt8:
-      return static_cast<std::int8_t>(*at);
-    case kUint8:
-      return static_cast<std::uint8_t>(*at);
-    case kInt16:
-      return std::bit_cast<std::int16_t>(load<std::uint16_t>(at, big_endian));
-    case kUint16:
-      return load<std::uint16_t>(at, big_endian);
-    case kInt32:
-      return std::bit_cast<std::int32_t>(load<std::uint32_t>(at, big_endian));
-    case kUint32:
-      return load<std::uint32_t>(at, big_endian);
-    case kFloat32:
-      return std::bit_cast<float>(load<std::uint32_t>(at, big_endian));
-    default:
-      return std::bit_cast<double>(load<std::uint64_t>(at, big_endian));
-  }
-}
-
 // Calls `store(index, value)` for every point of the cloud, `value` the field's in its own type:
 // one switch per field, then a tight loop (a sweep has ~100 k points; a switch per point and value
 // made decoding slower than reading a PCD file).
@@ -102,13 +79,7 @@ void for_each_typed(const char* data, std::uint32_t height, std::uint32_t width,
   for (std::uint32_t row = 0; row < height; ++row) {
     const char* at = data + static_cast<std::size_t>(row) * row_step + offset;
     for (std::uint32_t column = 0; column < width; ++column, ++index, at += point_step) {
-      if (big_endian) {
-        store(index, std::bit_cast<T>(load<Raw>(at, true)));
-      } else {
-        T value;
-        std::memcpy(&value, at, sizeof(T));
-        store(index, value);
-      }
+      store(index, std::bit_cast<T>(load<Raw>(at, big_endian)));
     }
   }
 }
@@ -227,16 +198,12 @@ TimeScale time_scale(const Layout& layout, const Field& field, std::int64_t stam
   const double stamp_s = static_cast<double>(stamp_ns) * 1e-9;
   double farthest_as_seconds = 0.0;
   double farthest_as_nanoseconds = 0.0;
-  for (std::uint32_t row = 0; row < layout.height; ++row) {
-    for (std::uint32_t column = 0; column < layout.width; ++column) {
-      const char* point = layout.data.data() + static_cast<std::size_t>(row) * layout.row_step +
-                          static_cast<std::size_t>(column) * layout.point_step;
-      const double value = value_of(point, field, layout.big_endian);
-      if (!std::isfinite(value)) continue;
-      farthest_as_seconds = std::max(farthest_as_seconds, std::abs(value - stamp_s));
-      farthest_as_nanoseconds = std::max(farthest_as_nanoseconds, std::abs(value * 1e-9 - stamp_s));
-    }
-  }
+  for_each_value(layout, field, [&](std::size_t, auto typed) {
+    const auto value = static_cast<double>(typed);
+    if (!std::isfinite(value)) return;
+    farthest_as_seconds = std::max(farthest_as_seconds, std::abs(value - stamp_s));
+    farthest_as_nanoseconds = std::max(farthest_as_nanoseconds, std::abs(value * 1e-9 - stamp_s));
+  });
   if (farthest_as_seconds <= kWithin) return {.scale = 1.0, .offset = stamp_s};
   if (farthest_as_nanoseconds <= kWithin) return {.scale = 1e-9, .offset = stamp_s};
   throw InputError(source, 0, "fields.timestamp",
