@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <map>
 #include <memory>
 #include <opencv2/imgcodecs.hpp>
@@ -26,12 +25,6 @@ constexpr const char* kCameraInfo = "sensor_msgs/CameraInfo";
 bool is_image_type(const std::string& type) {
   return io::ros_type_is(type, kImage) || io::ros_type_is(type, kCompressedImage);
 }
-
-struct FrameMessage {
-  std::int64_t stamp_ns = 0;
-  io::BagMessageRef ref;
-  std::size_t count = 0;  // the message's number on its topic, for errors
-};
 
 // The channels and OpenCV conversion to grey of a sensor_msgs/Image encoding (cv_bridge's Bayer
 // names: ROS's bayer_rggb8 is OpenCV's BayerBG); conversion -1: already grey.
@@ -153,7 +146,7 @@ BagFrames camera_frames_from_bag(const std::filesystem::path& path,
   const auto chosen_topic = [&](const io::BagTopic& topic) {
     return options.topic ? topic.name == *options.topic : is_image_type(topic.type);
   };
-  std::vector<std::vector<FrameMessage>> messages;
+  std::vector<std::vector<io::StampedMessage>> messages;
   std::map<std::size_t, std::string> first_info;  // CameraInfo topics: their first message
   std::vector<std::size_t> counts;
   std::map<std::size_t, std::string> frame_ids;  // per image topic: its first header.frame_id
@@ -188,12 +181,10 @@ BagFrames camera_frames_from_bag(const std::filesystem::path& path,
   const std::size_t chosen =
       io::choose_topic(*bag, options.topic, {kImage, kCompressedImage}, "image");
   const io::BagTopic topic = bag->topics()[chosen];
-  std::vector<FrameMessage> frames =
-      chosen < messages.size() ? std::move(messages[chosen]) : std::vector<FrameMessage>{};
-  if (frames.empty()) throw InputError(file, 0, topic.name, "the topic holds no messages");
-  std::ranges::stable_sort(frames, {}, &FrameMessage::stamp_ns);
-
+  std::vector<io::StampedMessage> frames =
+      chosen < messages.size() ? std::move(messages[chosen]) : std::vector<io::StampedMessage>{};
   BagFrames out;
+  out.source.times = io::order_by_stamp(frames, *bag, topic.name);
   out.topic = topic.name;
   out.frame_id = frame_ids.contains(chosen) ? frame_ids.at(chosen) : std::string();
   // The CameraInfo topic whose namespace holds the image topic, the deepest one.
@@ -212,18 +203,9 @@ BagFrames camera_frames_from_bag(const std::filesystem::path& path,
                                fmt::format("{} ({} message 1)", file, info_topic.name), rectified)
             .intrinsics;
   }
-  for (std::size_t i = 0; i < frames.size(); ++i) {
-    if (i > 0 && frames[i].stamp_ns == frames[i - 1].stamp_ns) {
-      throw InputError(
-          file, 0, topic.name,
-          fmt::format("messages {} and {} have one header.stamp ({} s)", frames[i - 1].count,
-                      frames[i].count, io::stamp_seconds(frames[i].stamp_ns)));
-    }
-    out.source.times.push_back(io::stamp_seconds(frames[i].stamp_ns));
-  }
   const io::RosEncoding encoding = io::ros_encoding_of(topic, path);
   const bool compressed = io::ros_type_is(topic.type, kCompressedImage);
-  auto shared = std::make_shared<const std::vector<FrameMessage>>(std::move(frames));
+  auto shared = std::make_shared<const std::vector<io::StampedMessage>>(std::move(frames));
   const auto name_of = [file, name = topic.name, shared](std::size_t index) {
     return fmt::format("{} ({} message {})", file, name, shared->at(index).count);
   };

@@ -150,6 +150,25 @@ std::size_t choose_topic(const BagFile& bag, const std::optional<std::string>& w
   return *only;
 }
 
+std::vector<double> order_by_stamp(std::vector<StampedMessage>& messages, const BagFile& bag,
+                                   const std::string& topic) {
+  const std::string file = bag.path().string();
+  if (messages.empty()) throw InputError(file, 0, topic, "the topic holds no messages");
+  std::ranges::stable_sort(messages, {}, &StampedMessage::stamp_ns);
+  std::vector<double> times;
+  times.reserve(messages.size());
+  for (std::size_t i = 0; i < messages.size(); ++i) {
+    if (i > 0 && messages[i].stamp_ns == messages[i - 1].stamp_ns) {
+      throw InputError(
+          file, 0, topic,
+          fmt::format("messages {} and {} have one header.stamp ({} s)", messages[i - 1].count,
+                      messages[i].count, stamp_seconds(messages[i].stamp_ns)));
+    }
+    times.push_back(stamp_seconds(messages[i].stamp_ns));
+  }
+  return times;
+}
+
 bool ros_type_is(std::string_view type, std::string_view package_and_name) {
   const std::size_t slash = package_and_name.find('/');
   if (slash == std::string_view::npos) return false;

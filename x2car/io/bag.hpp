@@ -106,6 +106,19 @@ class BagFile {
 std::size_t choose_topic(const BagFile& bag, const std::optional<std::string>& wanted,
                          std::initializer_list<std::string_view> types, std::string_view kind);
 
+// A message a reader keeps to read again (a LiDAR sweep, a camera frame).
+struct StampedMessage {
+  std::int64_t stamp_ns = 0;  // header.stamp
+  BagMessageRef ref;
+  std::size_t count = 0;  // the message's number on its topic, for errors
+};
+
+// Puts a topic's messages in stamp order (a stable sort) and returns their times [s]
+// (stamp_seconds). InputError naming the bag and the topic when there are none, or two with one
+// stamp.
+std::vector<double> order_by_stamp(std::vector<StampedMessage>& messages, const BagFile& bag,
+                                   const std::string& topic);
+
 // A header stamp [ns] as seconds, rounded once from its decimal value: the same double as a file
 // named by that time ("000012.300000.pcd", 12 s + 300000000 ns) or a timestamps file's line.
 double stamp_seconds(std::int64_t stamp_ns);

@@ -2,12 +2,10 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <memory>
 #include <utility>
 #include <vector>
 
-#include "x2car/core/error.hpp"
 #include "x2car/io/bag.hpp"
 #include "x2car/io/ros_point_cloud2.hpp"
 #include "x2car/io/text_lines.hpp"
@@ -16,12 +14,6 @@ namespace x2car::lidar {
 namespace {
 
 constexpr const char* kPointCloud2 = "sensor_msgs/PointCloud2";
-
-struct SweepMessage {
-  std::int64_t stamp_ns = 0;
-  io::BagMessageRef ref;
-  std::size_t count = 0;  // the message's number on its topic, for errors
-};
 
 }  // namespace
 
@@ -33,7 +25,7 @@ BagSweeps sweeps_from_bag(const std::filesystem::path& path, const BagSweepOptio
     return options.topic ? topic.name == *options.topic : io::ros_type_is(topic.type, kPointCloud2);
   };
   // Per topic index: its sweeps.
-  std::vector<std::vector<SweepMessage>> messages;
+  std::vector<std::vector<io::StampedMessage>> messages;
   std::vector<std::size_t> counts;
   std::string frame_id;
   // The scan reads each sweep's header alone where the container allows (64 KiB holds it).
@@ -57,29 +49,18 @@ BagSweeps sweeps_from_bag(const std::filesystem::path& path, const BagSweepOptio
 
   const std::size_t chosen = io::choose_topic(*bag, options.topic, {kPointCloud2}, "PointCloud2");
   const io::BagTopic topic = bag->topics()[chosen];
-  std::vector<SweepMessage> sweeps =
-      chosen < messages.size() ? std::move(messages[chosen]) : std::vector<SweepMessage>{};
-  if (sweeps.empty()) throw InputError(file, 0, topic.name, "the topic holds no messages");
-  std::ranges::stable_sort(sweeps, {}, &SweepMessage::stamp_ns);
-
+  std::vector<io::StampedMessage> sweeps =
+      chosen < messages.size() ? std::move(messages[chosen]) : std::vector<io::StampedMessage>{};
   BagSweeps out;
   out.topic = topic.name;
   out.frame_id = frame_id;
-  for (std::size_t i = 0; i < sweeps.size(); ++i) {
-    if (i > 0 && sweeps[i].stamp_ns == sweeps[i - 1].stamp_ns) {
-      throw InputError(
-          file, 0, topic.name,
-          fmt::format("messages {} and {} have one header.stamp ({} s)", sweeps[i - 1].count,
-                      sweeps[i].count, io::stamp_seconds(sweeps[i].stamp_ns)));
-    }
-    out.source.times.push_back(io::stamp_seconds(sweeps[i].stamp_ns));
-  }
+  out.source.times = io::order_by_stamp(sweeps, *bag, topic.name);
   const io::RosEncoding encoding = io::ros_encoding_of(topic, path);
   // Shared: the source may be copied, and outlives this call.
   out.source.read = [bag = std::shared_ptr<const io::BagFile>(std::move(bag)),
                      sweeps = std::move(sweeps), encoding, file,
                      name = topic.name](std::size_t index) {
-    const SweepMessage& sweep = sweeps.at(index);
+    const io::StampedMessage& sweep = sweeps.at(index);
     const std::string bytes = bag->read(sweep.ref);
     return io::decode_point_cloud2(bytes, encoding,
                                    fmt::format("{} ({} message {})", file, name, sweep.count))
