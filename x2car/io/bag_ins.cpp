@@ -106,11 +106,6 @@ bool is_novatel_type(const std::string& type) {
   return ros_type_is(type, kInspvaType) || ros_type_is(type, kInspvaxType);
 }
 
-bool is_pose_type(const std::string& type) {
-  return ros_type_is(type, kOdometryType) || ros_type_is(type, kPoseStampedType) ||
-         is_novatel_type(type);
-}
-
 // A geodetic solution (NovAtel's INSPVA): position, local-level velocity and attitude.
 struct GeodeticSample {
   std::int64_t stamp_ns = 0;
@@ -301,11 +296,16 @@ const BagTopic* pick_topic(const std::vector<const BagTopic*>& candidates,
 
 }  // namespace
 
+bool is_ins_pose_type(const std::string& type) {
+  return ros_type_is(type, kOdometryType) || ros_type_is(type, kPoseStampedType) ||
+         is_novatel_type(type);
+}
+
 InsLog read_ins_bag(const std::filesystem::path& path, const BagInsOptions& options) {
   const std::string file = path.string();
   const std::unique_ptr<BagFile> bag = open_bag(path, {.allow_truncated = options.allow_truncated});
   const auto wanted = [&](const BagTopic& topic) {
-    return is_pose_type(topic.type) || ros_type_is(topic.type, kNavSatFixType) ||
+    return is_ins_pose_type(topic.type) || ros_type_is(topic.type, kNavSatFixType) ||
            ros_type_is(topic.type, kImuType);
   };
   std::vector<TopicData> data;
@@ -354,7 +354,7 @@ InsLog read_ins_bag(const std::filesystem::path& path, const BagInsOptions& opti
   std::vector<const BagTopic*> imu_topics;
   const BagTopic* named = nullptr;
   for (const BagTopic& topic : bag->topics()) {
-    if (is_pose_type(topic.type)) pose_topics.push_back(&topic);
+    if (is_ins_pose_type(topic.type)) pose_topics.push_back(&topic);
     if (ros_type_is(topic.type, kNavSatFixType)) fix_topics.push_back(&topic);
     if (ros_type_is(topic.type, kImuType)) imu_topics.push_back(&topic);
     if (options.topic && topic.name == *options.topic) named = &topic;
@@ -367,8 +367,8 @@ InsLog read_ins_bag(const std::filesystem::path& path, const BagInsOptions& opti
   const auto index_of = [&](const BagTopic* topic) {
     return static_cast<std::size_t>(topic - bag->topics().data());
   };
-  if (options.topic && (named == nullptr ||
-                        !(is_pose_type(named->type) || ros_type_is(named->type, kNavSatFixType)))) {
+  if (options.topic && (named == nullptr || !(is_ins_pose_type(named->type) ||
+                                              ros_type_is(named->type, kNavSatFixType)))) {
     throw InputError(
         file, 0, *options.topic,
         named == nullptr
@@ -382,7 +382,7 @@ InsLog read_ins_bag(const std::filesystem::path& path, const BagInsOptions& opti
   log.format = InsFormat::kBag;
   std::vector<StampedRecord> stamped;
   const BagTopic* chosen = nullptr;
-  if (named != nullptr ? is_pose_type(named->type) : !pose_topics.empty()) {
+  if (named != nullptr ? is_ins_pose_type(named->type) : !pose_topics.empty()) {
     chosen =
         named != nullptr ? named : pick_topic(pose_topics, std::nullopt, file, "pose", "--topic");
     stamped = is_novatel_type(chosen->type)

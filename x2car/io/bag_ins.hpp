@@ -36,6 +36,10 @@ struct BagInsOptions {
   bool allow_truncated = false;
 };
 
+// Whether a topic of `type` is a GNSS/INS pose topic this reader takes first (Odometry,
+// PoseStamped, INSPVA, INSPVAX; NavSatFix with Imu only when there is none).
+bool is_ins_pose_type(const std::string& type);
+
 // InputError naming the file (and the topic or message) for a file without a pose or NavSatFix
 // topic, a NavSatFix topic without an Imu topic that has orientations, an
 // unknown --topic (listing those there are), a message in another encoding or that ends early, a

@@ -13,6 +13,7 @@
 
 #include "x2car/core/error.hpp"
 #include "x2car/io/bag.hpp"
+#include "x2car/io/bag_ins.hpp"
 #include "x2car/io/ros_message.hpp"
 #include "x2car/io/text_lines.hpp"
 #include "x2car/io/yaml_util.hpp"
@@ -225,12 +226,6 @@ std::optional<SensorKind> sensor_kind_of(const std::string& type) {
   return std::nullopt;
 }
 
-bool is_pose_type(const std::string& type) {
-  return ros_type_is(type, "nav_msgs/Odometry") || ros_type_is(type, "geometry_msgs/PoseStamped") ||
-         ros_type_is(type, "novatel_oem7_msgs/INSPVA") ||
-         ros_type_is(type, "novatel_oem7_msgs/INSPVAX");
-}
-
 // A frame or topic name as a sensor's name (letters, digits, _): "/sensing/lidar/top/points" ->
 // "sensing_lidar_top_points".
 std::string sensor_name_of(const std::string& text) {
@@ -250,7 +245,7 @@ DriveFolder find_bag_sensors(const fs::path& path) {
   // Each sensor topic's frame (its first message's header.frame_id; Odometry's child_frame_id, the
   // device's): the child frame its results are written for, as ROS and Autoware name it.
   const auto wanted = [](const BagTopic& topic) {
-    return sensor_kind_of(topic.type).has_value() || is_pose_type(topic.type) ||
+    return sensor_kind_of(topic.type).has_value() || is_ins_pose_type(topic.type) ||
            ros_type_is(topic.type, "sensor_msgs/NavSatFix");
   };
   std::map<std::size_t, std::string> frames;
@@ -290,7 +285,7 @@ DriveFolder find_bag_sensors(const fs::path& path) {
   std::vector<std::size_t> fix_topics;
   for (std::size_t i = 0; i < bag->topics().size(); ++i) {
     const std::string& type = bag->topics()[i].type;
-    if (is_pose_type(type)) {
+    if (is_ins_pose_type(type)) {
       pose_topics.push_back(i);
     } else if (ros_type_is(type, "sensor_msgs/NavSatFix")) {
       fix_topics.push_back(i);

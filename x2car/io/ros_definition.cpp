@@ -174,23 +174,4 @@ std::map<std::string, double> RosDefinition::read_numbers(
   return out;
 }
 
-bool RosDefinition::has_number(const std::string& path) const {
-  std::string type = root_;
-  std::string_view rest = path;
-  while (true) {
-    const auto dot = rest.find('.');
-    const std::string_view name = rest.substr(0, dot);
-    const auto fields = types_.find(type);
-    if (fields == types_.end()) return false;
-    const auto field = std::ranges::find(fields->second, name, &Field::name);
-    if (field == fields->second.end()) {
-      return false;
-    }
-    if (dot == std::string_view::npos) return is_primitive(field->type) && field->type != "string";
-    if (field->type == "time" || field->type == "duration") return true;
-    type = field->type;
-    rest = rest.substr(dot + 1);
-  }
-}
-
 }  // namespace x2car::io

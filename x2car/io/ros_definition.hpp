@@ -29,9 +29,6 @@ class RosDefinition {
                                              const std::string& source,
                                              const std::vector<std::string>& paths) const;
 
-  // Whether the root type has a numeric leaf at `path`.
-  bool has_number(const std::string& path) const;
-
  private:
   struct Field {
     std::string type;  // a primitive's name or a complex type's "package/Type"

@@ -58,10 +58,6 @@ TEST(RosDefinition, ReadsLeavesThroughNestedTypesAndArrays) {
   EXPECT_EQ(values.at("values[1]"), 1.5);
   EXPECT_EQ(values.at("latitude"), 48.1);
   EXPECT_FALSE(values.contains("no_such"));
-  EXPECT_TRUE(definition.has_number("latitude"));
-  EXPECT_TRUE(definition.has_number("header.stamp.sec"));
-  EXPECT_FALSE(definition.has_number("name"));
-  EXPECT_FALSE(definition.has_number("GOOD"));  // a constant holds no bytes
   EXPECT_THROW(definition.read_numbers(m.bytes.substr(0, 20), RosEncoding::kRos1, "m", {}),
                InputError);
 }
