@@ -6,7 +6,7 @@
 #include <optional>
 #include <stdexcept>
 
-#include "apps/x2car/bag_prior.hpp"
+#include "apps/x2car/bag_inputs.hpp"
 #include "apps/x2car/calibration_output.hpp"
 #include "apps/x2car/camera_inputs.hpp"
 #include "apps/x2car/number_checks.hpp"
@@ -40,9 +40,7 @@ struct CalibrateCameraArguments {
   std::optional<int> window_frames;
   std::optional<double> max_window_std_deg;
   bool skip_bad_images = false;
-  std::string topic;      // a bag's image topic
-  std::string ins_topic;  // the --ins bag's pose topic
-  bool allow_truncated = false;
+  BagArguments bag;
   OutputArguments output;
 };
 
@@ -95,15 +93,11 @@ int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
   camera::CameraFrameSource frames;
   std::optional<core::CameraIntrinsics> bag_intrinsics;
   std::string frame_id;  // a bag's image frame, for its tf prior
-  const bool from_bag = io::bag_container_of(arguments.input_path).has_value();
-  if (!from_bag && !arguments.topic.empty()) {
-    throw InputError(arguments.input_path, 0, "--topic", "is for a bag; this is not one");
-  }
-  if (from_bag) {
-    camera::BagFrameOptions bag_options;
-    if (!arguments.topic.empty()) bag_options.topic = arguments.topic;
-    bag_options.allow_truncated = arguments.allow_truncated;
-    camera::BagFrames bag = camera::camera_frames_from_bag(arguments.input_path, bag_options);
+  check_topic_needs_bag(arguments.input_path, arguments.bag);
+  if (io::bag_container_of(arguments.input_path)) {
+    camera::BagFrames bag = camera::camera_frames_from_bag(
+        arguments.input_path,
+        {.topic = arguments.bag.topic_or_none(), .allow_truncated = arguments.bag.allow_truncated});
     spdlog::info("found {} frames on {} in {} ({:.1f} s){}", bag.source.times.size(), bag.topic,
                  arguments.input_path, bag.source.times.back() - bag.source.times.front(),
                  bag.intrinsics ? fmt::format("; intrinsics from {}", bag.info_topic) : "");
@@ -140,7 +134,7 @@ int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
                 arguments.input_path,
                 {arguments.intrinsics_path, arguments.camera_index, arguments.unrectified});
   if (!arguments.ins_path.empty()) {
-    frames.motion = camera_motion_from_log(arguments.ins_path, frames, arguments.ins_topic);
+    frames.motion = camera_motion_from_log(arguments.ins_path, frames, arguments.bag.ins_topic);
   }
   ProgressBar progress("frames", spdlog::should_log(spdlog::level::info));
   options.progress = progress.callback();
@@ -218,12 +212,8 @@ RunCommand setup_calibrate_camera_command(CLI::App& command) {
   command.add_flag("--skip-bad-images", arguments->skip_bad_images,
                    "Skip images that cannot be decoded instead of stopping; they are counted in "
                    "the result");
-  command.add_option("--topic", arguments->topic,
-                     "A bag's Image or CompressedImage topic (default: its only one)");
-  command.add_option("--ins-topic", arguments->ins_topic,
-                     "The --ins bag's Odometry or PoseStamped topic (default: its only one)");
-  command.add_flag("--allow-truncated", arguments->allow_truncated,
-                   "Read an MCAP file cut short up to where it ends, instead of an error");
+  add_bag_options(command, arguments->bag,
+                  "A bag's Image or CompressedImage topic (default: its only one)", true);
   add_output_options(command, arguments->output);
   command.footer(
       "Each frame's vanishing point of the road and horizon give the rotation; frames are kept "

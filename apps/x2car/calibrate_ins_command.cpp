@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "apps/x2car/bag_prior.hpp"
+#include "apps/x2car/bag_inputs.hpp"
 #include "apps/x2car/calibration_output.hpp"
 #include "apps/x2car/subcommand.hpp"
 #include "apps/x2car/track_options.hpp"

@@ -5,7 +5,7 @@
 
 #include <optional>
 
-#include "apps/x2car/bag_prior.hpp"
+#include "apps/x2car/bag_inputs.hpp"
 #include "apps/x2car/calibration_output.hpp"
 #include "apps/x2car/number_checks.hpp"
 #include "apps/x2car/progress_bar.hpp"
@@ -25,8 +25,7 @@ struct CalibrateLidarArguments {
   std::optional<int> ground_every;
   std::optional<double> max_turn_rate_deg_s;
   bool skip_bad_sweeps = false;
-  std::string topic;  // a bag's PointCloud2 topic
-  bool allow_truncated = false;
+  BagArguments bag;
   TrackArguments track;
   OutputArguments output;
 };
@@ -47,19 +46,16 @@ int run_calibrate_lidar(const CalibrateLidarArguments& arguments) {
   check_output_arguments(arguments.output, {{{"--input", arguments.input_path}}});
   lidar::SweepSource sweeps;
   std::string frame_id;  // a bag's sensor frame, for its tf prior
+  check_topic_needs_bag(arguments.input_path, arguments.bag);
   if (io::bag_container_of(arguments.input_path)) {
-    lidar::BagSweepOptions bag_options;
-    if (!arguments.topic.empty()) bag_options.topic = arguments.topic;
-    bag_options.allow_truncated = arguments.allow_truncated;
-    lidar::BagSweeps bag = lidar::sweeps_from_bag(arguments.input_path, bag_options);
+    lidar::BagSweeps bag = lidar::sweeps_from_bag(
+        arguments.input_path,
+        {.topic = arguments.bag.topic_or_none(), .allow_truncated = arguments.bag.allow_truncated});
     spdlog::info("found {} sweeps on {} (frame '{}') in {}", bag.source.times.size(), bag.topic,
                  bag.frame_id, arguments.input_path);
     sweeps = std::move(bag.source);
     frame_id = bag.frame_id;
   } else {
-    if (!arguments.topic.empty()) {
-      throw InputError(arguments.input_path, 0, "--topic", "is for a bag; this is a folder");
-    }
     const lidar::SweepFolder folder = lidar::list_sweeps(arguments.input_path);
     spdlog::info("found {} sweeps in {} (times from {}; {} other files ignored)",
                  folder.sweeps.size(), folder.folder.string(), folder.time_source,
@@ -101,10 +97,8 @@ RunCommand setup_calibrate_lidar_command(CLI::App& command) {
   command.add_flag("--skip-bad-sweeps", arguments->skip_bad_sweeps,
                    "Skip sweeps that cannot be read (truncated, corrupt) instead of stopping; "
                    "they are counted in the result");
-  command.add_option("--topic", arguments->topic,
-                     "A bag's PointCloud2 topic (default: its only one)");
-  command.add_flag("--allow-truncated", arguments->allow_truncated,
-                   "Read an MCAP file cut short up to where it ends, instead of an error");
+  add_bag_options(command, arguments->bag, "A bag's PointCloud2 topic (default: its only one)",
+                  false);
   add_track_options(command, arguments->track, "poses");
   add_output_options(command, arguments->output);
   command.footer(

@@ -7,7 +7,7 @@
 #include <optional>
 #include <vector>
 
-#include "apps/x2car/bag_prior.hpp"
+#include "apps/x2car/bag_inputs.hpp"
 #include "apps/x2car/calibration_output.hpp"
 #include "apps/x2car/number_checks.hpp"
 #include "apps/x2car/subcommand.hpp"
@@ -28,9 +28,7 @@ struct CalibrateRadarArguments {
   std::vector<double> lever_arm_m;  // x y of the radar on the car [m], optional
   std::optional<double> min_speed_mps;
   std::optional<double> nominal_yaw_deg;  // the mounting as designed [deg], optional
-  std::string topic;                      // a bag's radar topic
-  std::string ins_topic;                  // the GNSS/INS log's pose topic, when it is a bag
-  bool allow_truncated = false;
+  BagArguments bag;
   OutputArguments output;
 };
 
@@ -59,18 +57,19 @@ io::RadarReadOptions read_options(const CalibrateRadarArguments& arguments) {
   io::RadarReadOptions options;
   if (arguments.layout != "auto") options.layout = io::radar_layout_from_string(arguments.layout);
   options.angle_unit = io::angle_unit_from_string(arguments.angle_unit);
-  if (!arguments.topic.empty()) options.topic = arguments.topic;
-  options.allow_truncated = arguments.allow_truncated;
+  options.topic = arguments.bag.topic_or_none();
+  options.allow_truncated = arguments.bag.allow_truncated;
   return options;
 }
 
 int run_calibrate_radar(const CalibrateRadarArguments& arguments) {
   check_output_arguments(arguments.output,
                          {{{"--input", arguments.input_path}, {"--ins", arguments.ins_path}}});
+  check_topic_needs_bag(arguments.input_path, arguments.bag);
   const io::RadarReadOptions radar_options = read_options(arguments);
   const io::RadarLog radar_log = io::read_radar(arguments.input_path, radar_options);
   io::InsReadOptions ins_options;
-  if (!arguments.ins_topic.empty()) ins_options.topic = arguments.ins_topic;
+  ins_options.topic = arguments.bag.ins_topic_or_none();
   const io::InsLog ins_log = io::read_ins_log(arguments.ins_path, ins_options);
   for (const std::string& notice : radar_log.notices) spdlog::warn("{}", notice);
   for (const std::string& notice : ins_log.notices) spdlog::warn("{}", notice);
@@ -152,12 +151,8 @@ RunCommand setup_calibrate_radar_command(CLI::App& command) {
                               deg_from_rad(radar::RadarVelocityMethodOptions{}.search_half_range)))
       ->type_name("DEG")
       ->check(CLI::Range(-360.0, 360.0));
-  command.add_option("--topic", arguments->topic,
-                     "A bag's RadarScan or RadarTracks topic (default: its only one)");
-  command.add_option("--ins-topic", arguments->ins_topic,
-                     "The --ins bag's Odometry or PoseStamped topic (default: its only one)");
-  command.add_flag("--allow-truncated", arguments->allow_truncated,
-                   "Read an MCAP file cut short up to where it ends, instead of an error");
+  add_bag_options(command, arguments->bag,
+                  "A bag's RadarScan or RadarTracks topic (default: its only one)", true);
   add_output_options(command, arguments->output);
   command.footer(
       "Roll and pitch are not observable by a 2-D radar and are reported as null. The yaw is "

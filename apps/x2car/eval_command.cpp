@@ -396,8 +396,9 @@ RunCommand setup_eval_command(CLI::App& command) {
   auto arguments = std::make_shared<EvalArguments>();
   command
       .add_option("-i,--input", arguments->input_path,
-                  "A drive folder as x2car simulate writes it (ins/, lidar*/, radar*/, camera*/)")
-      ->type_name("DIR")
+                  "A drive folder as x2car simulate writes it (ins/, lidar*/, radar*/, camera*/), "
+                  "a folder with an x2car.yaml manifest, or a bag (a sensor per topic)")
+      ->type_name("DIR|BAG")
       ->required();
   command.add_option("--sensor", arguments->sensor, "The sensor folder's name, or all")
       ->type_name("NAME")
