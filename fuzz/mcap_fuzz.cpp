@@ -32,6 +32,22 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     fuzz::accept_input_errors(
         "read_mcap", [&] { io::read_mcap(path, handlers, {.allow_truncated = allow_truncated}); });
   }
+  // Chunks read only as far as their message indexes say the wanted prefixes reach, and the
+  // messages read again by their offsets.
+  fuzz::accept_input_errors("read_mcap prefix", [&] {
+    std::vector<io::McapMessage> refs;
+    io::McapHandlers prefix_handlers = handlers;
+    prefix_handlers.on_message = [&](const io::McapMessage& message) {
+      if (message.chunk_offset != 0 && !message.data.empty()) refs.push_back(message);
+    };
+    io::read_mcap(path, prefix_handlers,
+                  {.data_prefix = 4, .wants_data = [](std::uint16_t id) { return id % 2 == 0; }});
+    for (const io::McapMessage& message : refs) {
+      checksum += io::read_mcap_message(path, message.chunk_offset, message.data_offset,
+                                        message.data_size)
+                      .size();
+    }
+  });
   // A GNSS/INS log from its Odometry topic: ROS 2 CDR decoding (ros_message.hpp, bag_ins.hpp).
   fuzz::accept_input_errors("read_ins_bag", [&] {
     for (const io::InsRecord& record : io::read_ins_bag(path).records) {

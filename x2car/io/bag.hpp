@@ -79,9 +79,11 @@ class BagFile {
 
   // Every message, in file order (MCAP) or time order (ROS 1 and 2 bags); the data of topics for
   // which `wanted` is true (all when it is empty). `data_prefix` > 0: only that many of each
-  // message's first bytes are needed (its header, when the data is read again later), which a
-  // ROS 2 bag then reads alone (MCAP and ROS 1 give the whole message anyway). Throws InputError
-  // naming the file and, where the container says, the byte offset.
+  // message's first bytes are needed (its header, when the data is read again later): a ROS 2 bag
+  // then reads them alone, an MCAP file with a summary and message indexes decompresses its chunks
+  // only that far (ROS 1 gives the whole message anyway), and `data` may be only that prefix; an
+  // unwanted topic's message may come without `ref`. Throws InputError naming the file and, where
+  // the container says, the byte offset.
   BagScanEnd scan(const std::function<bool(const BagTopic&)>& wanted,
                   const std::function<void(const BagMessage&)>& on_message,
                   std::size_t data_prefix = 0) {

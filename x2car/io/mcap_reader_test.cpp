@@ -1,6 +1,7 @@
 #include "x2car/io/mcap_reader.hpp"
 
 #include <gtest/gtest.h>
+#include <zstd.h>
 
 #include <cstdint>
 #include <filesystem>
@@ -116,6 +117,132 @@ TEST(McapReader, AFieldPastItsRecordIsAnError) {
   chunked.record(0x06, chunk);
   EXPECT_THROW(read_mcap(write("brotli.mcap", chunked.data), {}), InputError);
   EXPECT_FALSE(looks_like_mcap(write("text.mcap", "not an mcap file")));
+}
+
+// A chunk of three messages (zstd), its message indexes, and a summary naming the two channels: the
+// file a LiDAR's scan reads only the sweeps' first bytes of.
+struct IndexedFile {
+  std::string bytes;
+  std::string first, second, third;  // the messages' data, in file order
+};
+
+Bytes message_record(std::uint16_t channel, std::uint64_t time, const std::string& data) {
+  Bytes message;
+  message.integer<std::uint16_t>(channel).integer<std::uint32_t>(0).integer<std::uint64_t>(time);
+  message.integer<std::uint64_t>(time).data += data;
+  return message;
+}
+
+Bytes channel_with_id(std::uint16_t id, const std::string& topic) {
+  Bytes channel = channel_record(topic);
+  channel.data[0] = static_cast<char>(id);
+  return channel;
+}
+
+IndexedFile indexed_file(bool with_summary, std::uint64_t bad_offset = 0) {
+  IndexedFile out;
+  out.first = std::string(100, 'a');
+  out.second = std::string(5000, 'b');
+  for (int i = 0; i < 1000; ++i) out.third += static_cast<char>('0' + i % 10);
+  const Bytes schema =
+      Bytes().integer<std::uint16_t>(7).string("sensor_msgs/msg/PointCloud2").string("ros2msg").string("");
+  Bytes records;
+  records.record(0x03, schema).record(0x04, channel_with_id(1, "/points"));
+  records.record(0x04, channel_with_id(2, "/other"));
+  std::vector<std::uint64_t> offsets;
+  for (const auto& [channel, data] : std::vector<std::pair<std::uint16_t, std::string>>{
+           {1, out.first}, {2, out.second}, {1, out.third}}) {
+    offsets.push_back(records.data.size());
+    records.record(0x05, message_record(channel, 100 + offsets.size(), data));
+  }
+  std::string compressed(ZSTD_compressBound(records.data.size()), '\0');
+  compressed.resize(ZSTD_compress(compressed.data(), compressed.size(), records.data.data(),
+                                  records.data.size(), 3));
+  Bytes file = with_magic();
+  Bytes chunk;
+  chunk.integer<std::uint64_t>(101).integer<std::uint64_t>(103);
+  chunk.integer<std::uint64_t>(records.data.size()).integer<std::uint32_t>(0).string("zstd");
+  chunk.integer<std::uint64_t>(compressed.size()).data += compressed;
+  file.record(0x06, chunk);
+  Bytes index1;
+  index1.integer<std::uint16_t>(1).integer<std::uint32_t>(32);
+  index1.integer<std::uint64_t>(101).integer<std::uint64_t>(bad_offset != 0 ? bad_offset : offsets[0]);
+  index1.integer<std::uint64_t>(103).integer<std::uint64_t>(offsets[2]);
+  Bytes index2;
+  index2.integer<std::uint16_t>(2).integer<std::uint32_t>(16);
+  index2.integer<std::uint64_t>(102).integer<std::uint64_t>(offsets[1]);
+  file.record(0x07, index1).record(0x07, index2);
+  file.record(0x0F, Bytes().integer<std::uint32_t>(0));
+  std::uint64_t summary_start = 0;
+  if (with_summary) {
+    summary_start = file.data.size();
+    file.record(0x03, schema).record(0x04, channel_with_id(1, "/points"));
+    file.record(0x04, channel_with_id(2, "/other"));
+  }
+  file.record(0x02, Bytes().integer<std::uint64_t>(summary_start).integer<std::uint64_t>(0)
+                        .integer<std::uint32_t>(0));
+  file.data += std::string("\x89MCAP0\r\n", 8);
+  out.bytes = file.data;
+  return out;
+}
+
+struct Seen {
+  std::vector<std::string> channels;
+  std::vector<McapMessage> messages;
+  std::vector<std::string> data;
+};
+
+Seen read_prefix(const std::filesystem::path& path, std::size_t prefix) {
+  Seen seen;
+  McapHandlers handlers;
+  handlers.on_channel = [&](const McapChannel& channel) { seen.channels.push_back(channel.topic); };
+  handlers.on_message = [&](const McapMessage& message) {
+    seen.messages.push_back(message);
+    seen.data.emplace_back(message.data);
+  };
+  read_mcap(path, handlers,
+            {.data_prefix = prefix, .wants_data = [](std::uint16_t id) { return id == 1; }});
+  return seen;
+}
+
+// With a data prefix, a chunk is decompressed only as far as the wanted messages' prefixes: their
+// first bytes come with their whole size, the other channel's message without data, and each reads
+// back whole by its offsets.
+TEST(McapReader, ReadsOnlyTheWantedPrefixesOfAnIndexedChunk) {
+  const IndexedFile file = indexed_file(true);
+  const auto path = write("indexed.mcap", file.bytes);
+  const Seen seen = read_prefix(path, 10);
+  EXPECT_EQ(seen.channels, (std::vector<std::string>{"/points", "/other"}));
+  ASSERT_EQ(seen.messages.size(), 3u);
+  EXPECT_EQ(seen.data, (std::vector<std::string>{file.first.substr(0, 10), "",
+                                                 file.third.substr(0, 10)}));
+  EXPECT_EQ(seen.messages[0].data_size, 100u);
+  EXPECT_EQ(seen.messages[1].log_time_ns, 102u);
+  EXPECT_EQ(seen.messages[2].data_size, 1000u);
+  for (const int i : {2, 0, 2}) {  // out of order, and the same chunk twice (the thread's cache)
+    const McapMessage& message = seen.messages[i];
+    EXPECT_EQ(read_mcap_message(path, message.chunk_offset, message.data_offset, message.data_size),
+              i == 0 ? file.first : file.third);
+  }
+  // A prefix longer than a message gives it whole.
+  EXPECT_EQ(read_prefix(path, 5000).data[0], file.first);
+  // Without a summary the chunk is read whole (its records may declare channels the index does
+  // not show); the other channel's message then comes with its data.
+  const Seen whole = read_prefix(write("unindexed.mcap", indexed_file(false).bytes), 10);
+  EXPECT_EQ(whole.data[1], file.second);
+  EXPECT_EQ(whole.messages[0].data_size, 100u);
+}
+
+TEST(McapReader, AnIndexPointingAtNoMessageIsAnError) {
+  const auto path = write("bad_index.mcap", indexed_file(true, 3).bytes);
+  try {
+    read_prefix(path, 10);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("points at byte 3 of it, where no message is"),
+              std::string::npos)
+        << error.what();
+  }
 }
 
 }  // namespace
