@@ -17,8 +17,9 @@
 // are of decoding from the page cache, not of the disk. A bag that cannot be made (node or the
 // tests' npm packages missing, write_ros1_bag not built) skips its benchmark with the reason.
 // Measured (2-core reference machine, idle), seconds per minute of data: PCD folder 0.67-0.74;
-// ROS 1 0.60-0.64; ROS 2 sqlite3 0.71; MCAP uncompressed 0.90, lz4 1.77, zstd 3.53 (each chunk
-// decompressed twice: in the scan and when its sweep is read) (docs/formats.md, "Speed").
+// ROS 1 0.57-0.64; ROS 2 sqlite3 0.64-0.71; MCAP uncompressed 0.45, lz4 1.71, zstd 2.30-2.40 (each
+// compressed chunk decompressed once, when its sweep is read; lz4 also in the scan, its frames'
+// blocks holding the whole chunk) (docs/formats.md, "Speed").
 #include <benchmark/benchmark.h>
 
 #include <chrono>

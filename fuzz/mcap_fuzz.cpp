@@ -43,9 +43,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     io::read_mcap(path, prefix_handlers,
                   {.data_prefix = 4, .wants_data = [](std::uint16_t id) { return id % 2 == 0; }});
     for (const io::McapMessage& message : refs) {
-      checksum += io::read_mcap_message(path, message.chunk_offset, message.data_offset,
-                                        message.data_size)
-                      .size();
+      checksum +=
+          io::read_mcap_message(path, message.chunk_offset, message.data_offset, message.data_size)
+              .size();
     }
   });
   // A GNSS/INS log from its Odometry topic: ROS 2 CDR decoding (ros_message.hpp, bag_ins.hpp).

@@ -26,10 +26,9 @@ class McapBag final : public BagFile {
 
   BagContainer container() const override { return BagContainer::kMcap; }
 
-  BagScanEnd scan_messages(
-      const std::function<bool(const BagTopic&)>& wanted,
-      const std::function<void(const BagMessage&)>& on_message,
-      std::size_t data_prefix) override {
+  BagScanEnd scan_messages(const std::function<bool(const BagTopic&)>& wanted,
+                           const std::function<void(const BagMessage&)>& on_message,
+                           std::size_t data_prefix) override {
     std::map<std::uint16_t, McapSchema> schemas;
     std::map<std::uint16_t, std::size_t> topic_of_channel;
     std::vector<bool> topic_wanted(topics_.size(), false);
@@ -65,19 +64,20 @@ class McapBag final : public BagFile {
       out.topic = topic->second;
       out.log_time_ns = static_cast<std::int64_t>(message.log_time_ns);
       if (topic_wanted[out.topic]) out.data = message.data;
-      out.ref = {.part = message.chunk_offset, .at = message.data_offset, .size = message.data_size};
+      out.ref = {
+          .part = message.chunk_offset, .at = message.data_offset, .size = message.data_size};
       on_message(out);
     };
     // With a data prefix, chunks are decompressed only as far as the wanted messages' prefixes
     // reach (mcap_reader.hpp): a compressed sweep is then decompressed once, when it is read.
-    const McapReadEnd end = read_mcap(
-        path_, handlers,
-        {.allow_truncated = options_.allow_truncated,
-         .data_prefix = data_prefix,
-         .wants_data = [&](std::uint16_t channel_id) {
-           const auto topic = topic_of_channel.find(channel_id);
-           return topic != topic_of_channel.end() && topic_wanted[topic->second];
-         }});
+    const McapReadEnd end =
+        read_mcap(path_, handlers,
+                  {.allow_truncated = options_.allow_truncated,
+                   .data_prefix = data_prefix,
+                   .wants_data = [&](std::uint16_t channel_id) {
+                     const auto topic = topic_of_channel.find(channel_id);
+                     return topic != topic_of_channel.end() && topic_wanted[topic->second];
+                   }});
     return {.writer = end.library, .truncated_at = end.truncated_at};
   }
 

@@ -400,7 +400,7 @@ class IndexedChunkReader {
   void dispatch(ChunkRecords& chunk, std::vector<IndexedMessage>& index,
                 std::uint64_t chunk_offset) {
     std::ranges::sort(index, {}, &IndexedMessage::offset);
-    constexpr std::uint64_t kRecordHead = 1 + 8;   // opcode, length
+    constexpr std::uint64_t kRecordHead = 1 + 8;           // opcode, length
     constexpr std::uint64_t kMessageHead = 2 + 4 + 8 + 8;  // channel, sequence, two times
     for (const IndexedMessage& entry : index) {
       deliver_channel(entry.channel_id);
@@ -414,7 +414,8 @@ class IndexedChunkReader {
                                                "at byte {} of it, where no message is",
                                                chunk_offset, entry.offset));
         };
-        if (entry.offset > chunk.size() || chunk.size() - entry.offset < kRecordHead + kMessageHead) {
+        if (entry.offset > chunk.size() ||
+            chunk.size() - entry.offset < kRecordHead + kMessageHead) {
           throw nowhere();
         }
         const std::uint64_t start = entry.offset + kRecordHead;
@@ -424,11 +425,11 @@ class IndexedChunkReader {
         if (opcode != kMessage || length < kMessageHead || length > chunk.size() - start) {
           throw nowhere();
         }
-        const std::uint64_t kept = std::min<std::uint64_t>(length - kMessageHead,
-                                                           options_.data_prefix);
+        const std::uint64_t kept =
+            std::min<std::uint64_t>(length - kMessageHead, options_.data_prefix);
         const std::string_view records = chunk.prefix(start + kMessageHead + kept);
-        message = parse_message(Fields(records.substr(start, kMessageHead + kept), file_,
-                                       chunk_offset));
+        message =
+            parse_message(Fields(records.substr(start, kMessageHead + kept), file_, chunk_offset));
         message.data_size = length - kMessageHead;
         message.chunk_offset = chunk_offset;
         message.data_offset = start + kMessageHead;
@@ -619,10 +620,38 @@ std::string read_mcap_message(const std::filesystem::path& path, std::uint64_t c
     std::unique_ptr<ChunkRecords> records;
   };
   thread_local LastChunk last;
-  if (chunk_offset == 0) {
-    std::vector<char> message;
-    const std::string_view bytes = read_at(data_offset, size, message, "a message");
-    return std::string(bytes);
+  const auto read_message_at = [&](std::uint64_t at) {
+    std::string message(size, '\0');
+    stream.seekg(static_cast<std::streamoff>(at));
+    if (!stream.read(message.data(), static_cast<std::streamsize>(size))) {
+      throw InputError(
+          file, fmt::format("cannot read a message at byte {} again (the file changed?)", at));
+    }
+    return message;
+  };
+  if (chunk_offset == 0) return read_message_at(data_offset);
+  // An uncompressed chunk's message is read alone, straight from the file: its record's opcode
+  // and length, the chunk's two times, size, CRC and an empty compression, then the records'
+  // length, and the records.
+  constexpr std::uint64_t kPlainRecordsStart = 1 + 8 + 8 + 8 + 8 + 4 + 4 + 8;
+  {
+    std::vector<char> head;
+    const std::string_view bytes =
+        read_at(chunk_offset, kPlainRecordsStart, head, "a chunk's header");
+    Fields fields(bytes, file, chunk_offset);
+    if (fields.integer<std::uint8_t>("chunk") != kChunk) {
+      throw InputError(file, fmt::format("no chunk at byte {} (the file changed?)", chunk_offset));
+    }
+    fields.bytes(8 + 8 + 8 + 8 + 4, "chunk");  // length, times, size, CRC
+    if (fields.integer<std::uint32_t>("chunk.compression") == 0) {
+      const auto records_size = fields.integer<std::uint64_t>("chunk.records");
+      if (data_offset > records_size || size > records_size - data_offset) {
+        throw InputError(file, fmt::format("the chunk at byte {} does not hold the message at {} "
+                                           "(the file changed?)",
+                                           chunk_offset, data_offset));
+      }
+      return read_message_at(chunk_offset + kPlainRecordsStart + data_offset);
+    }
   }
   if (!last.records || last.offset != chunk_offset || last.file != file) {
     last.records.reset();
@@ -632,7 +661,8 @@ std::string read_mcap_message(const std::filesystem::path& path, std::uint64_t c
     const std::string_view head_bytes = read_at(chunk_offset, head.size(), last.content, "a chunk");
     std::uint64_t length = 0;
     for (int i = 0; i < 8; ++i) {
-      length |= static_cast<std::uint64_t>(static_cast<unsigned char>(head_bytes[1 + i])) << (8 * i);
+      length |= static_cast<std::uint64_t>(static_cast<unsigned char>(head_bytes[1 + i]))
+                << (8 * i);
     }
     if (static_cast<std::uint8_t>(head_bytes[0]) != kChunk || length > (std::uint64_t{1} << 31)) {
       throw InputError(file, fmt::format("no chunk at byte {} (the file changed?)", chunk_offset));

@@ -144,8 +144,11 @@ IndexedFile indexed_file(bool with_summary, std::uint64_t bad_offset = 0) {
   out.first = std::string(100, 'a');
   out.second = std::string(5000, 'b');
   for (int i = 0; i < 1000; ++i) out.third += static_cast<char>('0' + i % 10);
-  const Bytes schema =
-      Bytes().integer<std::uint16_t>(7).string("sensor_msgs/msg/PointCloud2").string("ros2msg").string("");
+  const Bytes schema = Bytes()
+                           .integer<std::uint16_t>(7)
+                           .string("sensor_msgs/msg/PointCloud2")
+                           .string("ros2msg")
+                           .string("");
   Bytes records;
   records.record(0x03, schema).record(0x04, channel_with_id(1, "/points"));
   records.record(0x04, channel_with_id(2, "/other"));
@@ -166,7 +169,8 @@ IndexedFile indexed_file(bool with_summary, std::uint64_t bad_offset = 0) {
   file.record(0x06, chunk);
   Bytes index1;
   index1.integer<std::uint16_t>(1).integer<std::uint32_t>(32);
-  index1.integer<std::uint64_t>(101).integer<std::uint64_t>(bad_offset != 0 ? bad_offset : offsets[0]);
+  index1.integer<std::uint64_t>(101).integer<std::uint64_t>(bad_offset != 0 ? bad_offset
+                                                                            : offsets[0]);
   index1.integer<std::uint64_t>(103).integer<std::uint64_t>(offsets[2]);
   Bytes index2;
   index2.integer<std::uint16_t>(2).integer<std::uint32_t>(16);
@@ -179,7 +183,9 @@ IndexedFile indexed_file(bool with_summary, std::uint64_t bad_offset = 0) {
     file.record(0x03, schema).record(0x04, channel_with_id(1, "/points"));
     file.record(0x04, channel_with_id(2, "/other"));
   }
-  file.record(0x02, Bytes().integer<std::uint64_t>(summary_start).integer<std::uint64_t>(0)
+  file.record(0x02, Bytes()
+                        .integer<std::uint64_t>(summary_start)
+                        .integer<std::uint64_t>(0)
                         .integer<std::uint32_t>(0));
   file.data += std::string("\x89MCAP0\r\n", 8);
   out.bytes = file.data;
@@ -214,8 +220,8 @@ TEST(McapReader, ReadsOnlyTheWantedPrefixesOfAnIndexedChunk) {
   const Seen seen = read_prefix(path, 10);
   EXPECT_EQ(seen.channels, (std::vector<std::string>{"/points", "/other"}));
   ASSERT_EQ(seen.messages.size(), 3u);
-  EXPECT_EQ(seen.data, (std::vector<std::string>{file.first.substr(0, 10), "",
-                                                 file.third.substr(0, 10)}));
+  EXPECT_EQ(seen.data,
+            (std::vector<std::string>{file.first.substr(0, 10), "", file.third.substr(0, 10)}));
   EXPECT_EQ(seen.messages[0].data_size, 100u);
   EXPECT_EQ(seen.messages[1].log_time_ns, 102u);
   EXPECT_EQ(seen.messages[2].data_size, 1000u);
