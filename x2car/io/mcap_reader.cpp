@@ -351,18 +351,22 @@ Summary read_summary(std::ifstream& stream, const std::string& file, std::uint64
     stream.clear();
     return summary;
   }
-  Fields records(std::string_view(bytes.data(), bytes.size()), file, summary_start);
-  while (!records.rest().empty()) {
-    const auto opcode = records.integer<std::uint8_t>("summary record");
-    const auto length = records.integer<std::uint64_t>("summary record");
-    const Fields content(records.bytes(length, "summary record"), file, summary_start);
-    if (opcode == kSchema) {
-      McapSchema schema = parse_schema(content);
-      summary.schemas[schema.id] = std::move(schema);
-    } else if (opcode == kChannel) {
-      McapChannel channel = parse_channel(content);
-      summary.channels[channel.id] = std::move(channel);
+  try {
+    Fields records(std::string_view(bytes.data(), bytes.size()), file, summary_start);
+    while (!records.rest().empty()) {
+      const auto opcode = records.integer<std::uint8_t>("summary record");
+      const auto length = records.integer<std::uint64_t>("summary record");
+      const Fields content(records.bytes(length, "summary record"), file, summary_start);
+      if (opcode == kSchema) {
+        McapSchema schema = parse_schema(content);
+        summary.schemas[schema.id] = std::move(schema);
+      } else if (opcode == kChannel) {
+        McapChannel channel = parse_channel(content);
+        summary.channels[channel.id] = std::move(channel);
+      }
     }
+  } catch (const InputError&) {
+    return {};  // the stream reads every chunk whole then, and judges the file by its records
   }
   return summary;
 }

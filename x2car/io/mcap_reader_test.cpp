@@ -139,7 +139,8 @@ Bytes channel_with_id(std::uint16_t id, const std::string& topic) {
   return channel;
 }
 
-IndexedFile indexed_file(bool with_summary, std::uint64_t bad_offset = 0) {
+IndexedFile indexed_file(bool with_summary, std::uint64_t bad_offset = 0,
+                         bool broken_summary = false) {
   IndexedFile out;
   out.first = std::string(100, 'a');
   out.second = std::string(5000, 'b');
@@ -182,6 +183,7 @@ IndexedFile indexed_file(bool with_summary, std::uint64_t bad_offset = 0) {
     summary_start = file.data.size();
     file.record(0x03, schema).record(0x04, channel_with_id(1, "/points"));
     file.record(0x04, channel_with_id(2, "/other"));
+    if (broken_summary) file.record(0x04, Bytes().integer<std::uint16_t>(3));
   }
   file.record(0x02, Bytes()
                         .integer<std::uint64_t>(summary_start)
@@ -237,6 +239,10 @@ TEST(McapReader, ReadsOnlyTheWantedPrefixesOfAnIndexedChunk) {
   const Seen whole = read_prefix(write("unindexed.mcap", indexed_file(false).bytes), 10);
   EXPECT_EQ(whole.data[1], file.second);
   EXPECT_EQ(whole.messages[0].data_size, 100u);
+  // A summary that does not parse is passed over the same way: the chunks' own records decide.
+  const Seen broken =
+      read_prefix(write("broken_summary.mcap", indexed_file(true, 0, true).bytes), 10);
+  EXPECT_EQ(broken.data[1], file.second);
 }
 
 TEST(McapReader, AnIndexPointingAtNoMessageIsAnError) {
