@@ -13,6 +13,7 @@
 
 #include "x2car/core/error.hpp"
 #include "x2car/io/mcap_reader.hpp"
+#include "x2car/io/novatel_csv.hpp"
 #include "x2car/io/text_lines.hpp"
 
 namespace x2car::io {
@@ -114,6 +115,20 @@ double stamp_seconds(std::int64_t stamp_ns) {
   double seconds = 0.0;
   std::from_chars(text.data(), text.data() + text.size(), seconds);
   return seconds;
+}
+
+StampClock::StampClock(std::int64_t first_stamp_ns)
+    : first_ns(first_stamp_ns), unix_clock(first_stamp_ns >= 100'000'000LL * 1'000'000'000LL) {}
+
+double StampClock::seconds(std::int64_t stamp_ns) const {
+  return unix_clock ? seconds_between(stamp_ns, first_ns)
+                    : static_cast<double>(stamp_ns / 1'000'000'000LL) +
+                          static_cast<double>(stamp_ns % 1'000'000'000LL) * 1e-9;
+}
+
+std::optional<double> StampClock::start_unix_time() const {
+  if (!unix_clock) return std::nullopt;
+  return static_cast<double>(first_ns) * 1e-9;
 }
 
 std::size_t choose_topic(const BagFile& bag, const std::optional<std::string>& wanted,

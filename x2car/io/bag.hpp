@@ -125,6 +125,18 @@ std::vector<double> order_by_stamp(std::vector<StampedMessage>& messages, const 
 // named by that time ("000012.300000.pcd", 12 s + 300000000 ns) or a timestamps file's line.
 double stamp_seconds(std::int64_t stamp_ns);
 
+// How the GNSS/INS and radar readers count time from header stamps: from the first stamp when it
+// is 10^8 s or more (a Unix clock; the log keeps its Unix time apart), else as the stamps are (a
+// simulation's clock).
+struct StampClock {
+  std::int64_t first_ns = 0;  // the first stamp, of the earliest message
+  bool unix_clock = false;
+
+  explicit StampClock(std::int64_t first_stamp_ns);
+  double seconds(std::int64_t stamp_ns) const;  // the log's time of a stamp [s]
+  std::optional<double> start_unix_time() const;  // of the first stamp, on a Unix clock [s]
+};
+
 // The container of `path`, by its first bytes or (a folder) its metadata.yaml; unset when it is
 // none of them.
 std::optional<BagContainer> bag_container_of(const std::filesystem::path& path);

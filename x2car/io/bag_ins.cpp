@@ -30,18 +30,12 @@ constexpr const char* kNavSatFixType = "sensor_msgs/NavSatFix";
 constexpr const char* kImuType = "sensor_msgs/Imu";
 constexpr const char* kInspvaType = "novatel_oem7_msgs/INSPVA";
 constexpr const char* kInspvaxType = "novatel_oem7_msgs/INSPVAX";
-constexpr std::int64_t kUnixStampNs = 100'000'000LL * 1'000'000'000LL;  // 10^8 s
 
 struct StampedRecord {
   std::int64_t stamp_ns = 0;
   std::string frame_id;  // Odometry's child frame: the device's
   InsRecord record;      // time unset
 };
-
-double finite(double value, const std::string& source, const char* field) {
-  if (!std::isfinite(value)) throw InputError(source, 0, field, "not a finite number");
-  return value;
-}
 
 // geometry_msgs/Pose (`prefix` names it in messages, e.g. "pose.pose"): the position, and the
 // orientation as world_from_device.
@@ -50,7 +44,7 @@ std::pair<Eigen::Vector3d, Eigen::Matrix3d> read_pose(RosMessageReader& cdr,
                                                       const std::string& source) {
   const auto value = [&](const char* name) {
     const std::string field = prefix + name;
-    return finite(cdr.float64(field.c_str()), source, field.c_str());
+    return finite_field(cdr.float64(field.c_str()), source, field.c_str());
   };
   // One statement each: the fields are read in order (a constructor's arguments are not).
   Eigen::Vector3d position;
@@ -80,9 +74,9 @@ StampedRecord decode_odometry(std::string_view bytes, RosEncoding encoding,
   const auto [position, world_from_device] = read_pose(cdr, "pose.pose", source);
   cdr.skip_float64s(36, "pose.covariance");
   Eigen::Vector3d linear;
-  linear.x() = finite(cdr.float64("twist.twist.linear.x"), source, "twist.twist.linear.x");
-  linear.y() = finite(cdr.float64("twist.twist.linear.y"), source, "twist.twist.linear.y");
-  linear.z() = finite(cdr.float64("twist.twist.linear.z"), source, "twist.twist.linear.z");
+  linear.x() = finite_field(cdr.float64("twist.twist.linear.x"), source, "twist.twist.linear.x");
+  linear.y() = finite_field(cdr.float64("twist.twist.linear.y"), source, "twist.twist.linear.y");
+  linear.z() = finite_field(cdr.float64("twist.twist.linear.z"), source, "twist.twist.linear.z");
   out.record.position_enu = position;
   out.record.attitude = euler_from_rotation(world_from_device);
   out.record.velocity_enu = world_from_device * linear;
@@ -134,7 +128,7 @@ GeodeticSample decode_inspva(const RosDefinition& definition, std::string_view b
     if (found == values.end()) {
       throw InputError(source, 0, path, "the message definition has no such field");
     }
-    return finite(found->second, source, path.c_str());
+    return finite_field(found->second, source, path.c_str());
   };
   GeodeticSample sample;
   const double sec = value("header.stamp.sec");
@@ -428,9 +422,8 @@ InsLog read_ins_bag(const std::filesystem::path& path, const BagInsOptions& opti
                          : "the topic holds no messages");
   }
   std::ranges::stable_sort(stamped, {}, &StampedRecord::stamp_ns);
-  const std::int64_t first_ns = stamped.front().stamp_ns;
-  const bool unix_clock = first_ns >= kUnixStampNs;
-  if (unix_clock) log.start_unix_time = static_cast<double>(first_ns) * 1e-9;
+  const StampClock clock(stamped.front().stamp_ns);
+  log.start_unix_time = clock.start_unix_time();
   for (std::size_t i = 0; i < stamped.size(); ++i) {
     if (i > 0 && stamped[i].stamp_ns == stamped[i - 1].stamp_ns) {
       throw InputError(
@@ -438,10 +431,7 @@ InsLog read_ins_bag(const std::filesystem::path& path, const BagInsOptions& opti
           fmt::format("two messages stamped {} s", format_number(stamped[i].stamp_ns * 1e-9)));
     }
     InsRecord record = stamped[i].record;
-    record.time = unix_clock
-                      ? seconds_between(stamped[i].stamp_ns, first_ns)
-                      : static_cast<double>(stamped[i].stamp_ns / 1'000'000'000LL) +
-                            static_cast<double>(stamped[i].stamp_ns % 1'000'000'000LL) * 1e-9;
+    record.time = clock.seconds(stamped[i].stamp_ns);
     log.records.push_back(record);
   }
   std::vector<double> times;

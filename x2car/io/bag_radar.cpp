@@ -19,15 +19,9 @@ namespace {
 
 constexpr const char* kRadarScan = "radar_msgs/RadarScan";
 constexpr const char* kRadarTracks = "radar_msgs/RadarTracks";
-constexpr std::int64_t kUnixStampNs = 100'000'000LL * 1'000'000'000LL;  // 10^8 s
 
 bool is_radar_type(const std::string& type) {
   return ros_type_is(type, kRadarScan) || ros_type_is(type, kRadarTracks);
-}
-
-double finite(double value, const std::string& source, const char* field) {
-  if (!std::isfinite(value)) throw InputError(source, 0, field, "not a finite number");
-  return value;
 }
 
 struct StampedDetection {
@@ -44,11 +38,11 @@ void decode_scan(RosMessageReader& message, std::vector<StampedDetection>& out,
   for (std::uint32_t i = 0; i < count; ++i) {
     const std::string& source = message.source();
     RadarDetection detection;
-    detection.range = finite(message.float32("returns.range"), source, "returns.range");
-    detection.azimuth = finite(message.float32("returns.azimuth"), source, "returns.azimuth");
+    detection.range = finite_field(message.float32("returns.range"), source, "returns.range");
+    detection.azimuth = finite_field(message.float32("returns.azimuth"), source, "returns.azimuth");
     message.float32("returns.elevation");
     detection.range_rate =
-        finite(message.float32("returns.doppler_velocity"), source, "returns.doppler_velocity");
+        finite_field(message.float32("returns.doppler_velocity"), source, "returns.doppler_velocity");
     detection.rcs_dbsm = message.float32("returns.amplitude");
     if (!std::isfinite(*detection.rcs_dbsm)) detection.rcs_dbsm.reset();
     detection.x = detection.range * std::cos(detection.azimuth);
@@ -70,11 +64,11 @@ void decode_tracks(RosMessageReader& message, std::map<std::string, int>& track_
     const auto [id, added] = track_ids.emplace(uuid, static_cast<int>(track_ids.size()));
     detection.track_id = id->second;
     detection.new_track = added;
-    detection.x = finite(message.float64("tracks.position.x"), source, "tracks.position.x");
-    detection.y = finite(message.float64("tracks.position.y"), source, "tracks.position.y");
+    detection.x = finite_field(message.float64("tracks.position.x"), source, "tracks.position.x");
+    detection.y = finite_field(message.float64("tracks.position.y"), source, "tracks.position.y");
     message.float64("tracks.position.z");
-    detection.vx = finite(message.float64("tracks.velocity.x"), source, "tracks.velocity.x");
-    detection.vy = finite(message.float64("tracks.velocity.y"), source, "tracks.velocity.y");
+    detection.vx = finite_field(message.float64("tracks.velocity.x"), source, "tracks.velocity.x");
+    detection.vy = finite_field(message.float64("tracks.velocity.y"), source, "tracks.velocity.y");
     detection.has_velocity = true;
     message.skip_float64s(7, "tracks.velocity.z, acceleration, size");
     message.uint16("tracks.classification");
@@ -118,15 +112,10 @@ RadarLog read_radar_bag(const std::filesystem::path& path, const BagRadarOptions
   RadarLog log;
   log.layout = RadarLayout::kBag;
   log.frame_id = frame_id;
-  const std::int64_t first_ns = stamped.front().stamp_ns;
-  const bool unix_clock = first_ns >= kUnixStampNs;
-  if (unix_clock) log.start_unix_time = static_cast<double>(first_ns) * 1e-9;
+  const StampClock clock(stamped.front().stamp_ns);
+  if (clock.unix_clock) log.start_unix_time = *clock.start_unix_time();
   for (StampedDetection& entry : stamped) {
-    // As the GNSS/INS bag reader counts its records (bag_ins.cpp).
-    entry.detection.time = unix_clock
-                               ? seconds_between(entry.stamp_ns, first_ns)
-                               : static_cast<double>(entry.stamp_ns / 1'000'000'000LL) +
-                                     static_cast<double>(entry.stamp_ns % 1'000'000'000LL) * 1e-9;
+    entry.detection.time = clock.seconds(entry.stamp_ns);  // as the GNSS/INS bag reader's
     log.detections.push_back(entry.detection);
   }
   return log;

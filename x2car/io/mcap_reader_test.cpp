@@ -1,6 +1,7 @@
 #include "x2car/io/mcap_reader.hpp"
 
 #include <gtest/gtest.h>
+#include <lz4frame.h>
 #include <zstd.h>
 
 #include <cstdint>
@@ -140,10 +141,10 @@ Bytes channel_with_id(std::uint16_t id, const std::string& topic) {
 }
 
 IndexedFile indexed_file(bool with_summary, std::uint64_t bad_offset = 0,
-                         bool broken_summary = false) {
+                         bool broken_summary = false, const std::string& compression = "zstd") {
   IndexedFile out;
   out.first = std::string(100, 'a');
-  out.second = std::string(5000, 'b');
+  out.second = std::string(200000, 'b');  // past a 64 KiB lz4 block
   for (int i = 0; i < 1000; ++i) out.third += static_cast<char>('0' + i % 10);
   const Bytes schema = Bytes()
                            .integer<std::uint16_t>(7)
@@ -159,13 +160,20 @@ IndexedFile indexed_file(bool with_summary, std::uint64_t bad_offset = 0,
     offsets.push_back(records.data.size());
     records.record(0x05, message_record(channel, 100 + offsets.size(), data));
   }
-  std::string compressed(ZSTD_compressBound(records.data.size()), '\0');
-  compressed.resize(ZSTD_compress(compressed.data(), compressed.size(), records.data.data(),
-                                  records.data.size(), 3));
+  std::string compressed;
+  if (compression == "zstd") {
+    compressed.resize(ZSTD_compressBound(records.data.size()));
+    compressed.resize(ZSTD_compress(compressed.data(), compressed.size(), records.data.data(),
+                                    records.data.size(), 3));
+  } else {  // lz4 in the library's default 64 KiB blocks
+    compressed.resize(LZ4F_compressFrameBound(records.data.size(), nullptr));
+    compressed.resize(LZ4F_compressFrame(compressed.data(), compressed.size(), records.data.data(),
+                                         records.data.size(), nullptr));
+  }
   Bytes file = with_magic();
   Bytes chunk;
   chunk.integer<std::uint64_t>(101).integer<std::uint64_t>(103);
-  chunk.integer<std::uint64_t>(records.data.size()).integer<std::uint32_t>(0).string("zstd");
+  chunk.integer<std::uint64_t>(records.data.size()).integer<std::uint32_t>(0).string(compression);
   chunk.integer<std::uint64_t>(compressed.size()).data += compressed;
   file.record(0x06, chunk);
   Bytes index1;
@@ -216,9 +224,11 @@ Seen read_prefix(const std::filesystem::path& path, std::size_t prefix) {
 // With a data prefix, a chunk is decompressed only as far as the wanted messages' prefixes: their
 // first bytes come with their whole size, the other channel's message without data, and each reads
 // back whole by its offsets.
-TEST(McapReader, ReadsOnlyTheWantedPrefixesOfAnIndexedChunk) {
-  const IndexedFile file = indexed_file(true);
-  const auto path = write("indexed.mcap", file.bytes);
+class McapPrefix : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(McapPrefix, ReadsOnlyTheWantedPrefixesOfAnIndexedChunk) {
+  const IndexedFile file = indexed_file(true, 0, false, GetParam());
+  const auto path = write("indexed_" + GetParam() + ".mcap", file.bytes);
   const Seen seen = read_prefix(path, 10);
   EXPECT_EQ(seen.channels, (std::vector<std::string>{"/points", "/other"}));
   ASSERT_EQ(seen.messages.size(), 3u);
@@ -244,6 +254,8 @@ TEST(McapReader, ReadsOnlyTheWantedPrefixesOfAnIndexedChunk) {
       read_prefix(write("broken_summary.mcap", indexed_file(true, 0, true).bytes), 10);
   EXPECT_EQ(broken.data[1], file.second);
 }
+
+INSTANTIATE_TEST_SUITE_P(Compressions, McapPrefix, ::testing::Values("zstd", "lz4"));
 
 TEST(McapReader, AnIndexPointingAtNoMessageIsAnError) {
   const auto path = write("bad_index.mcap", indexed_file(true, 3).bytes);

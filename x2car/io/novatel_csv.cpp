@@ -15,7 +15,7 @@
 namespace x2car::io {
 namespace {
 
-constexpr std::array<const char*, 12> kFields{"gps_time", "gps_seconds_of_week",
+constexpr std::array<const char*, 12> kNovatelFields{"gps_time", "gps_seconds_of_week",
                                               "x_east",   "y_north",
                                               "z_up",     "v_north",
                                               "v_east",   "v_up",
@@ -134,11 +134,11 @@ struct ParsedRow {
 };
 
 ParsedRow parse_row(const TextLine& line, const std::string& source) {
-  const std::vector<std::string_view> f = split_exact_fields(line, kFields.size(), source);
-  const auto where = [&](std::size_t i) { return FieldLocation{source, line.number, kFields[i]}; };
+  const std::vector<std::string_view> f = split_exact_fields(line, kNovatelFields.size(), source);
+  const auto where = [&](std::size_t i) { return FieldLocation{source, line.number, kNovatelFields[i]}; };
   const std::optional<std::int64_t> ns = parse_utc_time(f[0]);
   if (!ns) {
-    throw InputError(source, line.number, kFields[0],
+    throw InputError(source, line.number, kNovatelFields[0],
                      fmt::format("not a UTC date-time 'YYYY-MM-DD HH:MM:SS.ffffff': '{}'", f[0]));
   }
   std::array<double, 10> v{};
@@ -160,7 +160,7 @@ ParsedRow parse_row(const TextLine& line, const std::string& source) {
 void check_header(const std::vector<TextLine>& lines, const std::string& source) {
   if (lines.empty()) throw InputError(source, "empty file, expected a header line");
   const std::vector<std::string_view> header = split_fields(lines.front().text);
-  if (header.empty() || header.front() != kFields[0]) {
+  if (header.empty() || header.front() != kNovatelFields[0]) {
     throw InputError(source, lines.front().number, "1",
                      "expected a header line whose first field is 'gps_time'");
   }
@@ -169,7 +169,7 @@ void check_header(const std::vector<TextLine>& lines, const std::string& source)
 
 }  // namespace
 
-std::span<const char* const> novatel_field_names() { return kFields; }
+std::span<const char* const> novatel_field_names() { return kNovatelFields; }
 
 std::string format_utc_time(std::int64_t unix_time_ns) {
   const std::int64_t us = floor_div(unix_time_ns + kNsPerUs / 2, kNsPerUs);
@@ -230,7 +230,7 @@ std::string format_novatel_enu(std::span<const InsRecord> records, double start_
     throw std::invalid_argument("format_novatel_enu: start_unix_time is not finite");
   }
   std::string text;
-  for (const char* name : kFields) text += text.empty() ? name : fmt::format(",{}", name);
+  for (const char* name : kNovatelFields) text += text.empty() ? name : fmt::format(",{}", name);
   text += "\n";
   const std::int64_t start_ns = ns_from_seconds(start_unix_time);
   for (const InsRecord& record : records) {
@@ -266,7 +266,7 @@ NovatelLog parse_novatel_enu(std::string_view text, const std::string& source_na
     numbers.push_back(lines[i].number);
     log.records.push_back(row.record);
   }
-  check_increasing_times(times, numbers, source_name, kFields[0]);
+  check_increasing_times(times, numbers, source_name, kNovatelFields[0]);
   log.gaps = find_time_gaps(times, numbers);
   log.start_unix_time = static_cast<double>(first_ns) / 1e9;
   return log;

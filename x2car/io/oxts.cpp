@@ -19,7 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr std::array<const char*, kOxtsFieldCount> kFields{
+constexpr std::array<const char*, kOxtsFieldCount> kOxtsFields{
     "lat",          "lon",     "alt",     "roll",    "pitch",   "yaw",    "vn", "ve",
     "vf",           "vl",      "vu",      "ax",      "ay",      "az",     "af", "al",
     "au",           "wx",      "wy",      "wz",      "wf",      "wl",     "wu", "pos_accuracy",
@@ -52,17 +52,17 @@ Packet parse_packet(const fs::path& file) {
                                  kOxtsFieldCount, lines.size()));
   }
   const std::vector<std::string_view> fields = split_fields(lines.front().text);
-  const std::vector<double> v = parse_named_doubles(fields, kFields, source, lines.front().number);
+  const std::vector<double> v = parse_named_doubles(fields, kOxtsFields, source, lines.front().number);
   Packet packet;
   packet.position = {v[kLat], v[kLon], v[kAlt]};
   if (std::abs(packet.position.latitude_deg) > 90.0) {
-    throw InputError(source, lines.front().number, kFields[kLat],
+    throw InputError(source, lines.front().number, kOxtsFields[kLat],
                      fmt::format("latitude {} deg is outside [-90, 90]", format_number(v[kLat])));
   }
   packet.velocity_local_level = {v[kVe], v[kVn], v[kVu]};
   packet.attitude_local_level = {v[kRoll], v[kPitch], v[kYaw]};
   packet.posmode =
-      parse_whole_number(fields[kPosmode], {source, lines.front().number, kFields[kPosmode]});
+      parse_whole_number(fields[kPosmode], {source, lines.front().number, kOxtsFields[kPosmode]});
   return packet;
 }
 
@@ -113,7 +113,7 @@ std::vector<double> relative_times(std::span<const Stamp> stamps, const fs::path
 
 }  // namespace
 
-std::span<const char* const> oxts_field_names() { return kFields; }
+std::span<const char* const> oxts_field_names() { return kOxtsFields; }
 
 fs::path oxts_folder_of(const fs::path& folder) {
   std::error_code error;

@@ -25,7 +25,7 @@ using detail::PcdHeader;
 
 // ---- writing -------------------------------------------------------------------------------
 
-constexpr std::size_t kPointBytes = 4 * 4 + 2 + 4;  // x y z intensity ring t, packed
+constexpr std::size_t kPcdPointBytes = 4 * 4 + 2 + 4;  // x y z intensity ring t, packed
 
 std::string pcd_header(std::size_t points, std::string_view data) {
   return fmt::format(
@@ -51,7 +51,7 @@ char* put(char* out, T value) {
 
 void append_binary(const PointCloud& cloud, std::string& bytes) {
   const std::size_t start = bytes.size();
-  bytes.resize(start + cloud.points.size() * kPointBytes);
+  bytes.resize(start + cloud.points.size() * kPcdPointBytes);
   char* out = bytes.data() + start;
   for (const LidarPoint& p : cloud.points) {
     out = put(out, p.x);
@@ -74,7 +74,7 @@ void append_ascii(const PointCloud& cloud, std::string& bytes) {
 // after two uint32: compressed and uncompressed size [bytes].
 void append_compressed(const PointCloud& cloud, std::string& bytes) {
   const std::size_t n = cloud.points.size();
-  std::string fields(n * kPointBytes, '\0');
+  std::string fields(n * kPcdPointBytes, '\0');
   char* out = fields.data();
   for (const LidarPoint& p : cloud.points) out = put(out, p.x);
   for (const LidarPoint& p : cloud.points) out = put(out, p.y);

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <bit>
+#include <cmath>
 #include <utility>
 
 #include "x2car/core/error.hpp"
@@ -120,6 +121,11 @@ RosHeader RosMessageReader::header() {
   header.stamp_ns = time_ns("header.stamp");
   header.frame_id = string("header.frame_id");
   return header;
+}
+
+double finite_field(double value, const std::string& source, const char* field) {
+  if (!std::isfinite(value)) throw InputError(source, 0, field, "not a finite number");
+  return value;
 }
 
 }  // namespace x2car::io

@@ -26,6 +26,10 @@ struct RosHeader {
   std::string frame_id;
 };
 
+// `value` when finite; else an InputError naming `source` and `field` (a message's number that
+// x2car would compute with).
+double finite_field(double value, const std::string& source, const char* field);
+
 class RosMessageReader {
  public:
   // Throws InputError naming `source` (e.g. "run.mcap (/odom message 12)") when a CDR message's
