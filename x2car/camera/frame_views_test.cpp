@@ -14,7 +14,7 @@
 namespace x2car::camera {
 namespace {
 
-const EulerAngles kMounting{rad_from_deg(0.8), rad_from_deg(2.0), rad_from_deg(-1.5)};
+const EulerAngles kViewMounting{rad_from_deg(0.8), rad_from_deg(2.0), rad_from_deg(-1.5)};
 
 CameraFrameSource frames_of(const cv::Mat& image, std::size_t count) {
   CameraFrameSource frames;
@@ -30,7 +30,7 @@ cv::Mat decoded(const FrameView& view) {
 
 // The exact vanishing point and horizon of the drawn street, in the view's pixels.
 VanishingGeometry exact_in_view(const FrameView& view) {
-  return *vanishing_geometry_from_rotation(rotation_from_euler(kMounting),
+  return *vanishing_geometry_from_rotation(rotation_from_euler(kViewMounting),
                                            view.intrinsics.camera_matrix());
 }
 
@@ -44,7 +44,7 @@ double distance_to_line(const Eigen::Vector3d& line, const Eigen::Vector2d& poin
 TEST(FrameViews, ScaledViewsKeepTheirGeometry) {
   const core::CameraIntrinsics intrinsics = core::camera_preset("kitti");
   testing::StreetScene scene;
-  scene.vehicle_from_camera = kMounting;
+  scene.vehicle_from_camera = kViewMounting;
   FrameViewOptions options;
   options.count = 1;
   options.max_width_px = intrinsics.width / 2;
@@ -85,7 +85,7 @@ TEST(FrameViews, ScaledViewsKeepTheirGeometry) {
 TEST(FrameViews, DistortedFramesAreShownUndistorted) {
   const core::CameraIntrinsics intrinsics = core::camera_preset("dashcam_wide");
   testing::StreetScene scene;
-  scene.vehicle_from_camera = kMounting;
+  scene.vehicle_from_camera = kViewMounting;
   scene.noise_grey = 0.0;
   FrameViewOptions options;
   options.count = 1;
@@ -106,7 +106,7 @@ TEST(FrameViews, DistortedFramesAreShownUndistorted) {
 TEST(FrameViews, SpreadOverTheLogPassingUnreadableFrames) {
   const core::CameraIntrinsics intrinsics = core::camera_preset("kitti");
   testing::StreetScene scene;
-  scene.vehicle_from_camera = kMounting;
+  scene.vehicle_from_camera = kViewMounting;
   CameraFrameSource frames = frames_of(testing::draw_street(scene, intrinsics), 40);
   const cv::Mat image = frames.read(0);
   frames.read = [image](std::size_t index) -> cv::Mat {

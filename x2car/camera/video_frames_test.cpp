@@ -24,7 +24,7 @@ fs::path temp_path(const std::string& name) {
   return folder / name;
 }
 
-const EulerAngles kMounting{rad_from_deg(-1.0), rad_from_deg(2.0), rad_from_deg(1.5)};
+const EulerAngles kVideoMounting{rad_from_deg(-1.0), rad_from_deg(2.0), rad_from_deg(1.5)};
 
 // KITTI's camera with an even height: Motion-JPEG keeps whole 2x2 chroma blocks, so OpenCV's
 // writer drops the odd 375th row.
@@ -36,7 +36,7 @@ core::CameraIntrinsics even_kitti() {
 
 cv::Mat street_frame(std::size_t index) {
   testing::StreetScene scene;
-  scene.vehicle_from_camera = kMounting;
+  scene.vehicle_from_camera = kVideoMounting;
   scene.road_heading = rad_from_deg(0.05) * std::sin(0.07 * static_cast<double>(index));
   scene.noise_seed = index + 1;
   return testing::draw_street(scene, even_kitti());
@@ -83,9 +83,9 @@ TEST(VideoFrames, CalibratesLikeTheImages) {
   const CalibrationResult result =
       calibrate_camera(camera_frames_from_video(video), even_kitti(), options);
   ASSERT_TRUE(result.ok()) << result.reason;
-  EXPECT_THAT(*result.roll, AngleNearDeg(kMounting.roll, 0.1));
-  EXPECT_THAT(*result.pitch, AngleNearDeg(kMounting.pitch, 0.1));
-  EXPECT_THAT(*result.yaw, AngleNearDeg(kMounting.yaw, 0.1));
+  EXPECT_THAT(*result.roll, AngleNearDeg(kVideoMounting.roll, 0.1));
+  EXPECT_THAT(*result.pitch, AngleNearDeg(kVideoMounting.pitch, 0.1));
+  EXPECT_THAT(*result.yaw, AngleNearDeg(kVideoMounting.yaw, 0.1));
 }
 
 TEST(VideoFrames, TimestampsFileAndFrameRate) {

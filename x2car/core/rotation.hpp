@@ -7,6 +7,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <span>
 
 namespace x2car {
@@ -34,6 +35,9 @@ Eigen::Matrix3d rotation_from_rotation_vector(const Eigen::Vector3d& rotation_ve
 
 // Angle [rad] of the rotation that takes a onto b, in [0, pi].
 double angle_between(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b);
+
+// The unit vector of the plane at `angle` [rad] from the x axis, counter-clockwise.
+inline Eigen::Vector2d unit_vector(double angle) { return {std::cos(angle), std::sin(angle)}; }
 
 // The nearest rotation matrix (in the Frobenius sense) to an almost-orthonormal 3x3 matrix.
 Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& matrix);

@@ -12,13 +12,13 @@ namespace {
 
 // An AR(1) series x_k = phi x_(k-1) + e_k at 10 Hz, started from its stationary distribution
 // (variance 1).
-struct Series {
+struct Ar1Series {
   std::vector<double> times, values;
 };
 
-Series ar1_series(std::size_t n, double phi, std::mt19937_64& generator) {
+Ar1Series ar1_series(std::size_t n, double phi, std::mt19937_64& generator) {
   std::normal_distribution<double> normal;
-  Series series;
+  Ar1Series series;
   const double innovation = std::sqrt(1.0 - phi * phi);
   double x = normal(generator);
   for (std::size_t k = 0; k < n; ++k) {
@@ -68,7 +68,7 @@ TEST(MovingBlockStandardError, MatchesTheVarianceOfTheMeanOfAnAr1Series) {
   double sum_variance = 0.0;
   constexpr int kSeries = 200;
   for (int s = 0; s < kSeries; ++s) {
-    const Series series = ar1_series(kSamples, kPhi, generator);
+    const Ar1Series series = ar1_series(kSamples, kPhi, generator);
     const MovingBlockStandardError se =
         moving_block_standard_error(series.times, series.values, {.block_s = 10.0});
     EXPECT_EQ(se.block_samples, 100.0);
@@ -87,7 +87,7 @@ TEST(MovingBlockStandardError, IsUnbiasedForIndependentSamples) {
   double sum_variance = 0.0;
   constexpr int kSeries = 400;
   for (int s = 0; s < kSeries; ++s) {
-    const Series series = ar1_series(kSamples, 0.0, generator);
+    const Ar1Series series = ar1_series(kSamples, 0.0, generator);
     sum_variance += std::pow(
         moving_block_standard_error(series.times, series.values, {.block_s = 5.0}).standard_error,
         2.0);
@@ -104,7 +104,7 @@ TEST(MovingBlockStandardError, WithTheSmallSampleFactorCoversAShortSeries) {
   int covered = 0, covered_plain = 0;
   constexpr int kSeries = 1000;
   for (int s = 0; s < kSeries; ++s) {
-    const Series series = ar1_series(kSamples, 0.9, generator);
+    const Ar1Series series = ar1_series(kSamples, 0.9, generator);
     const MovingBlockStandardError se =
         moving_block_standard_error(series.times, series.values, {.block_s = 10.0});
     ASSERT_GE(se.degrees_of_freedom, 1.0);
@@ -143,7 +143,7 @@ TEST(MovingBlockStandardError, FallsBackToIndependentSamplesBelowFourSamples) {
 
 TEST(SeriesStandardError, IsTheLargerOfBlocksAndFormalWithTheFloorInQuadrature) {
   std::mt19937_64 generator(14);
-  const Series series = ar1_series(600, 0.9, generator);
+  const Ar1Series series = ar1_series(600, 0.9, generator);
   const SeriesStandardError se = series_standard_error(series.times, series.values, {}, 0.05);
   const MovingBlockStandardError blocks = moving_block_standard_error(series.times, series.values);
   EXPECT_DOUBLE_EQ(se.block,

@@ -133,7 +133,7 @@ struct StampClock {
   bool unix_clock = false;
 
   explicit StampClock(std::int64_t first_stamp_ns);
-  double seconds(std::int64_t stamp_ns) const;  // the log's time of a stamp [s]
+  double seconds(std::int64_t stamp_ns) const;    // the log's time of a stamp [s]
   std::optional<double> start_unix_time() const;  // of the first stamp, on a Unix clock [s]
 };
 

@@ -41,8 +41,8 @@ void decode_scan(RosMessageReader& message, std::vector<StampedDetection>& out,
     detection.range = finite_field(message.float32("returns.range"), source, "returns.range");
     detection.azimuth = finite_field(message.float32("returns.azimuth"), source, "returns.azimuth");
     message.float32("returns.elevation");
-    detection.range_rate =
-        finite_field(message.float32("returns.doppler_velocity"), source, "returns.doppler_velocity");
+    detection.range_rate = finite_field(message.float32("returns.doppler_velocity"), source,
+                                        "returns.doppler_velocity");
     detection.rcs_dbsm = message.float32("returns.amplitude");
     if (!std::isfinite(*detection.rcs_dbsm)) detection.rcs_dbsm.reset();
     detection.x = detection.range * std::cos(detection.azimuth);

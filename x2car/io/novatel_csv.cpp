@@ -16,11 +16,11 @@ namespace x2car::io {
 namespace {
 
 constexpr std::array<const char*, 12> kNovatelFields{"gps_time", "gps_seconds_of_week",
-                                              "x_east",   "y_north",
-                                              "z_up",     "v_north",
-                                              "v_east",   "v_up",
-                                              "roll",     "pitch",
-                                              "azimuth",  "status"};
+                                                     "x_east",   "y_north",
+                                                     "z_up",     "v_north",
+                                                     "v_east",   "v_up",
+                                                     "roll",     "pitch",
+                                                     "azimuth",  "status"};
 
 constexpr std::int64_t kNsPerUs = 1000;
 constexpr std::int64_t kNsPerSecond = 1000000000;
@@ -135,7 +135,9 @@ struct ParsedRow {
 
 ParsedRow parse_row(const TextLine& line, const std::string& source) {
   const std::vector<std::string_view> f = split_exact_fields(line, kNovatelFields.size(), source);
-  const auto where = [&](std::size_t i) { return FieldLocation{source, line.number, kNovatelFields[i]}; };
+  const auto where = [&](std::size_t i) {
+    return FieldLocation{source, line.number, kNovatelFields[i]};
+  };
   const std::optional<std::int64_t> ns = parse_utc_time(f[0]);
   if (!ns) {
     throw InputError(source, line.number, kNovatelFields[0],

@@ -52,7 +52,8 @@ Packet parse_packet(const fs::path& file) {
                                  kOxtsFieldCount, lines.size()));
   }
   const std::vector<std::string_view> fields = split_fields(lines.front().text);
-  const std::vector<double> v = parse_named_doubles(fields, kOxtsFields, source, lines.front().number);
+  const std::vector<double> v =
+      parse_named_doubles(fields, kOxtsFields, source, lines.front().number);
   Packet packet;
   packet.position = {v[kLat], v[kLon], v[kAlt]};
   if (std::abs(packet.position.latitude_deg) > 90.0) {

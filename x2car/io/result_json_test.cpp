@@ -20,7 +20,7 @@ namespace {
 
 using ::testing::HasSubstr;
 
-constexpr double kExact = 1e-12;
+constexpr double kJsonExact = 1e-12;
 
 CalibrationResult lidar_result() {
   CalibrationResult result;
@@ -60,7 +60,7 @@ void expect_near(const std::optional<double>& actual, const std::optional<double
                  const char* name) {
   ASSERT_EQ(actual.has_value(), expected.has_value()) << name;
   if (expected) {
-    EXPECT_NEAR(*actual, *expected, kExact) << name;
+    EXPECT_NEAR(*actual, *expected, kJsonExact) << name;
   }
 }
 
@@ -120,8 +120,8 @@ TEST(ResultJson, PriorReadsBack) {
                                Eigen::Vector3d(1.2, 0.0, 1.8)};
   const Json json = result_to_json(result);
   EXPECT_EQ(json.at("prior").at("child"), "velodyne");
-  EXPECT_NEAR(json.at("prior").at("yaw_deg").get<double>(), 90.0, kExact);
-  EXPECT_NEAR(json.at("prior").at("z_m").get<double>(), 1.8, kExact);
+  EXPECT_NEAR(json.at("prior").at("yaw_deg").get<double>(), 90.0, kJsonExact);
+  EXPECT_NEAR(json.at("prior").at("z_m").get<double>(), 1.8, kJsonExact);
   const CalibrationResult back = parse_result_json(format_result_json(result), "r");
   ASSERT_TRUE(back.prior.has_value());
   EXPECT_EQ(back.prior->parent, "base_link");
@@ -135,12 +135,12 @@ TEST(ResultJson, ShapeFollowsTheDesign) {
   const Json json = result_to_json(lidar_result());
   EXPECT_EQ(json.at("sensor"), "lidar");
   EXPECT_EQ(json.at("status"), "ok");
-  EXPECT_NEAR(json.at("yaw_deg").get<double>(), 2.0, kExact);  // degrees, with sign kept
-  EXPECT_NEAR(json.at("pitch_deg").get<double>(), 1.3, kExact);
-  EXPECT_NEAR(json.at("z_m").get<double>(), 1.83, kExact);
-  EXPECT_NEAR(json.at("std_deg").at("yaw").get<double>(), 0.1, kExact);
+  EXPECT_NEAR(json.at("yaw_deg").get<double>(), 2.0, kJsonExact);  // degrees, with sign kept
+  EXPECT_NEAR(json.at("pitch_deg").get<double>(), 1.3, kJsonExact);
+  EXPECT_NEAR(json.at("z_m").get<double>(), 1.83, kJsonExact);
+  EXPECT_NEAR(json.at("std_deg").at("yaw").get<double>(), 0.1, kJsonExact);
   EXPECT_FALSE(json.at("std_deg").contains("z_m"));  // a length is not in degrees
-  EXPECT_NEAR(json.at("std_m").at("z").get<double>(), 0.004, kExact);
+  EXPECT_NEAR(json.at("std_m").at("z").get<double>(), 0.004, kJsonExact);
   EXPECT_EQ(json.at("support").at("segments"), 7);
   EXPECT_EQ(json.at("rejections").at("turning"), 310);
   EXPECT_FALSE(json.contains("x_m"));  // only when known
@@ -156,7 +156,7 @@ TEST(ResultJson, UnobservedAnglesAreNullNeverZero) {
   const Json json = Json::parse(text);
   EXPECT_TRUE(json.at("std_deg").at("roll").is_null());
   EXPECT_TRUE(json.at("std_m").at("z").is_null());
-  EXPECT_NEAR(json.at("x_m").get<double>(), 0.5, kExact);
+  EXPECT_NEAR(json.at("x_m").get<double>(), 0.5, kJsonExact);
   const CalibrationResult read = parse_result_json(text, "r");
   EXPECT_FALSE(read.roll.has_value());
   EXPECT_FALSE(read.pitch.has_value());
@@ -168,7 +168,7 @@ TEST(ResultJson, OlderStdDegZmStillReads) {
   const CalibrationResult read = parse_result_json(
       R"({"sensor": "lidar", "status": "ok", "std_deg": {"z_m": 0.004}})", "old.json");
   ASSERT_TRUE(read.z_std.has_value());
-  EXPECT_NEAR(*read.z_std, 0.004, kExact);
+  EXPECT_NEAR(*read.z_std, 0.004, kJsonExact);
 }
 
 TEST(ResultJson, TimingCanBeLeftOutForIdenticalBytes) {

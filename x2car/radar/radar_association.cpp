@@ -4,10 +4,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "x2car/core/rotation.hpp"
+
 namespace x2car::radar {
 namespace {
-
-Eigen::Vector2d unit(double angle) { return {std::cos(angle), std::sin(angle)}; }
 
 // One detection of a track in the frame that does not turn with the car (header: q).
 struct TrackPoint {
@@ -24,7 +24,7 @@ struct OpenTrack {
 };
 
 TrackPoint point_of(const RadarSample& sample) {
-  return {sample.time, sample.range * unit(sample.ins_yaw_unwrapped + sample.azimuth)};
+  return {sample.time, sample.range * unit_vector(sample.ins_yaw_unwrapped + sample.azimuth)};
 }
 
 // Normalised distance (in sigmas) of `sample` from the track's prediction at its time; +inf when
@@ -46,7 +46,7 @@ double gated_distance(const OpenTrack& track, const RadarSample& sample,
           max_cross_speed * max_cross_speed / std::max(track.range, 1.0) * dt + tolerance) {
     return INFINITY;
   }
-  const Eigen::Vector2d along = unit(sample.ins_yaw_unwrapped + sample.azimuth);
+  const Eigen::Vector2d along = unit_vector(sample.ins_yaw_unwrapped + sample.azimuth);
   const Eigen::Vector2d across(-along.y(), along.x());
   const double range_var = options.range_sigma_m * options.range_sigma_m;
   const double cross_sigma = sample.range * options.azimuth_sigma;

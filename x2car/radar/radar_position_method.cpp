@@ -16,8 +16,6 @@
 namespace x2car::radar {
 namespace {
 
-Eigen::Vector2d unit(double angle) { return {std::cos(angle), std::sin(angle)}; }
-
 Eigen::Vector2d perpendicular(const Eigen::Vector2d& v) { return {-v.y(), v.x()}; }
 
 Eigen::Vector2d rotate(double angle, const Eigen::Vector2d& v) {
@@ -87,8 +85,8 @@ bool continues_track(const RadarSample& last, const RadarSample& next,
 double apparent_variance_along(const Eigen::Vector2d& direction, double range0, double azimuth0,
                                double range1, double azimuth1,
                                const RadarPositionMethodOptions& options) {
-  const Eigen::Vector2d a = unit(azimuth0);
-  const Eigen::Vector2d b = unit(azimuth1);
+  const Eigen::Vector2d a = unit_vector(azimuth0);
+  const Eigen::Vector2d b = unit_vector(azimuth1);
   const double range_var = options.range_sigma_m * options.range_sigma_m;
   const double azimuth_var = options.azimuth_sigma * options.azimuth_sigma;
   const double along_a = perpendicular(a).dot(direction);
@@ -308,8 +306,8 @@ PairEstimate estimate_pair(const RadarSample& first, const RadarSample& second,
   if (lever_arm_in_vehicle) {
     baseline += rotate(estimate.turn, *lever_arm_in_vehicle) - *lever_arm_in_vehicle;
   }
-  const Eigen::Vector2d apparent =
-      first.range * unit(first.azimuth) - second.range * unit(second.azimuth + estimate.turn);
+  const Eigen::Vector2d apparent = first.range * unit_vector(first.azimuth) -
+                                   second.range * unit_vector(second.azimuth + estimate.turn);
   estimate.baseline_m = baseline.norm();
   const double apparent_m = apparent.norm();
   // Car standing or a target that kept its place in the radar's view: no triangle, psi is 0/0.

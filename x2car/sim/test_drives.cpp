@@ -8,6 +8,7 @@
 
 #include "x2car/core/rotation.hpp"
 #include "x2car/sim/lidar_model.hpp"
+#include "x2car/sim/vehicle_motion.hpp"
 #include "x2car/sim/world_scene.hpp"
 
 namespace x2car::sim::testing {
@@ -188,6 +189,15 @@ VehicleStates straight_drive(double duration_s, double speed, double heading_enu
     states.push_back(s);
   }
   return states;
+}
+
+WorldDrive world_drive(Scenario scenario, double duration_s, std::uint64_t seed,
+                       const WorldOptions& options) {
+  const VehicleMotionOptions motion;
+  Route route = generate_route(scenario, route_length_for(scenario, duration_s, motion), seed);
+  VehicleStates states = simulate_vehicle_motion(route, scenario, duration_s, motion, seed);
+  World world = generate_world(route, scenario, states, options, seed);
+  return {std::move(route), std::move(states), std::move(world)};
 }
 
 }  // namespace x2car::sim::testing

@@ -8,6 +8,7 @@
 //   radar_scans / radar_detections   that drive seen by a radar at a chosen yaw
 //   constructed_radar_drive          an exact straight drive past chosen radar targets
 //   straight_drive         constructed vehicle truth: level, straight, constant speed
+//   world_drive            a route, the car's motion along it and the world around it
 #pragma once
 
 #include <Eigen/Geometry>
@@ -23,6 +24,7 @@
 #include "x2car/sim/radar_scene.hpp"
 #include "x2car/sim/simulation.hpp"
 #include "x2car/sim/vehicle_state.hpp"
+#include "x2car/sim/world.hpp"
 
 namespace x2car::sim {
 class LidarSimulator;
@@ -139,5 +141,17 @@ std::vector<io::RadarDetection> radar_detections_facing(const RadarDrive& drive,
 VehicleStates straight_drive(double duration_s, double speed, double heading_enu,
                              double rate_hz = 100.0,
                              const Eigen::Vector3d& start = Eigen::Vector3d::Zero());
+
+// ---- a drive's world ----------------------------------------------------------------------
+
+// A route, the car's motion along it and the world generated around them, as the simulator makes
+// them for a drive (no sensors).
+struct WorldDrive {
+  Route route;
+  VehicleStates states;
+  World world;
+};
+WorldDrive world_drive(Scenario scenario, double duration_s, std::uint64_t seed,
+                       const WorldOptions& options = {});
 
 }  // namespace x2car::sim::testing

@@ -5,27 +5,16 @@
 #include <set>
 #include <stdexcept>
 
+#include "x2car/sim/test_drives.hpp"
 #include "x2car/sim/vehicle_motion.hpp"
 
 namespace x2car::sim {
 namespace {
 
-struct Drive {
-  VehicleStates states;
-  World world;
-};
-
-Drive make_drive(Scenario scenario, double duration_s, std::uint64_t seed) {
-  const VehicleMotionOptions motion;
-  const Route route =
-      generate_route(scenario, route_length_for(scenario, duration_s, motion), seed);
-  VehicleStates states = simulate_vehicle_motion(route, scenario, duration_s, motion, seed);
-  World world = generate_world(route, scenario, states, {}, seed);
-  return {std::move(states), std::move(world)};
-}
+using testing::world_drive;
 
 TEST(WorldRadar, EveryStaticTargetBecomesAReflectorAtItsGroundPoint) {
-  const Drive drive = make_drive(Scenario::kMixed, 60.0, 4);
+  const testing::WorldDrive drive = world_drive(Scenario::kMixed, 60.0, 4);
   const RadarScene scene = radar_scene_from_world(drive.world, 0.0, drive.states.back().time);
   EXPECT_NO_THROW(scene.Check());
   std::set<ObjectKind> kinds;
@@ -49,7 +38,7 @@ TEST(WorldRadar, EveryStaticTargetBecomesAReflectorAtItsGroundPoint) {
 }
 
 TEST(WorldRadar, MoversFollowTheWorldsTrafficWhilePresent) {
-  const Drive drive = make_drive(Scenario::kUrban, 30.0, 2);
+  const testing::WorldDrive drive = world_drive(Scenario::kUrban, 30.0, 2);
   const double end = drive.states.back().time;
   const RadarScene scene = radar_scene_from_world(drive.world, 0.0, end);
   ASSERT_FALSE(scene.movers.empty());

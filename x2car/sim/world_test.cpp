@@ -7,26 +7,14 @@
 #include <map>
 #include <stdexcept>
 
+#include "x2car/sim/test_drives.hpp"
 #include "x2car/sim/vehicle_motion.hpp"
 #include "x2car/sim/world_mesh.hpp"
 
 namespace x2car::sim {
 namespace {
 
-struct Drive {
-  Route route;
-  VehicleStates states;
-  World world;
-};
-
-Drive make_drive(Scenario scenario, double duration_s, std::uint64_t seed,
-                 const WorldOptions& options = {}) {
-  const VehicleMotionOptions motion;
-  Route route = generate_route(scenario, route_length_for(scenario, duration_s, motion), seed);
-  VehicleStates states = simulate_vehicle_motion(route, scenario, duration_s, motion, seed);
-  World world = generate_world(route, scenario, states, options, seed);
-  return {std::move(route), std::move(states), std::move(world)};
-}
+using testing::world_drive;
 
 std::map<ObjectKind, int> count_kinds(const World& world) {
   std::map<ObjectKind, int> counts;
@@ -48,7 +36,7 @@ const RoadStation& nearest_station(const RoadLayout& road, const Eigen::Vector3d
 }
 
 TEST(World, CarDrivesOnTheRoadSurface) {
-  const Drive drive = make_drive(Scenario::kMixed, 120.0, 5);
+  const testing::WorldDrive drive = world_drive(Scenario::kMixed, 120.0, 5);
   for (std::size_t i = 0; i < drive.states.size(); i += 50) {
     const VehicleState& state = drive.states[i];
     const RoadStation station = drive.world.road.station_at(state.arc_length);
@@ -63,7 +51,7 @@ TEST(World, CarDrivesOnTheRoadSurface) {
 }
 
 TEST(World, UrbanWorldHasEveryKindOfObject) {
-  const Drive drive = make_drive(Scenario::kUrban, 60.0, 1);
+  const testing::WorldDrive drive = world_drive(Scenario::kUrban, 60.0, 1);
   const auto counts = count_kinds(drive.world);
   for (const ObjectKind kind :
        {ObjectKind::kRoad, ObjectKind::kLaneMarking, ObjectKind::kCurb, ObjectKind::kSidewalk,
@@ -82,7 +70,7 @@ TEST(World, UrbanWorldHasEveryKindOfObject) {
 }
 
 TEST(World, HighwayHasGuardRailsAndNoSidewalks) {
-  const Drive drive = make_drive(Scenario::kHighway, 60.0, 2);
+  const testing::WorldDrive drive = world_drive(Scenario::kHighway, 60.0, 2);
   const auto counts = count_kinds(drive.world);
   EXPECT_GT(counts.at(ObjectKind::kGuardRail), 0);
   EXPECT_GT(counts.at(ObjectKind::kGuardRailPost), 500);
@@ -92,7 +80,7 @@ TEST(World, HighwayHasGuardRailsAndNoSidewalks) {
 }
 
 TEST(World, SolidsStandClearOfEveryStretchOfRoad) {
-  const Drive drive = make_drive(Scenario::kUrban, 90.0, 3);
+  const testing::WorldDrive drive = world_drive(Scenario::kUrban, 90.0, 3);
   for (const WorldObject& object : drive.world.objects) {
     if (object.strip || object.kind == ObjectKind::kParkedCar ||
         object.kind == ObjectKind::kGuardRailPost) {
@@ -110,8 +98,8 @@ TEST(World, SolidsStandClearOfEveryStretchOfRoad) {
 }
 
 TEST(World, SameSeedSameWorld) {
-  const Drive a = make_drive(Scenario::kUrban, 30.0, 11);
-  const Drive b = make_drive(Scenario::kUrban, 30.0, 11);
+  const testing::WorldDrive a = world_drive(Scenario::kUrban, 30.0, 11);
+  const testing::WorldDrive b = world_drive(Scenario::kUrban, 30.0, 11);
   ASSERT_EQ(a.world.objects.size(), b.world.objects.size());
   ASSERT_EQ(a.world.movers.size(), b.world.movers.size());
   for (std::size_t i = 0; i < a.world.objects.size(); ++i) {
@@ -119,7 +107,7 @@ TEST(World, SameSeedSameWorld) {
         a.world.objects[i].world_from_object.isApprox(b.world.objects[i].world_from_object, 0.0));
     EXPECT_EQ(a.world.objects[i].size, b.world.objects[i].size);
   }
-  const Drive c = make_drive(Scenario::kUrban, 30.0, 12);
+  const testing::WorldDrive c = world_drive(Scenario::kUrban, 30.0, 12);
   auto mean_x = [](const World& world) {
     double sum = 0.0;
     for (const WorldObject& object : world.objects)
@@ -130,7 +118,7 @@ TEST(World, SameSeedSameWorld) {
 }
 
 TEST(World, MoversDriveTheirLanesAndKeepClearOfTheCar) {
-  const Drive drive = make_drive(Scenario::kHighway, 60.0, 4);
+  const testing::WorldDrive drive = world_drive(Scenario::kHighway, 60.0, 4);
   const World& world = drive.world;
   ASSERT_GT(world.movers.size(), 20u);
   int checked = 0;
@@ -164,7 +152,7 @@ TEST(World, MoversDriveTheirLanesAndKeepClearOfTheCar) {
 }
 
 TEST(World, MeshTablesMatchTheTriangles) {
-  const Drive drive = make_drive(Scenario::kUrban, 20.0, 6);
+  const testing::WorldDrive drive = world_drive(Scenario::kUrban, 20.0, 6);
   const TriangleMesh mesh = mesh_static_world(drive.world, Eigen::Vector3d::Zero());
   ASSERT_GT(mesh.triangles.size(), 10000u);
   EXPECT_EQ(mesh.triangle_object.size(), mesh.triangles.size());
