@@ -634,53 +634,40 @@ std::string read_mcap_message(const std::filesystem::path& path, std::uint64_t c
     return message;
   };
   if (chunk_offset == 0) return read_message_at(data_offset);
-  // An uncompressed chunk's message is read alone, straight from the file: its record's opcode
-  // and length, the chunk's two times, size, CRC and an empty compression, then the records'
-  // length, and the records.
-  constexpr std::uint64_t kPlainRecordsStart = 1 + 8 + 8 + 8 + 8 + 4 + 4 + 8;
-  {
-    std::vector<char> head;
-    const std::string_view bytes =
-        read_at(chunk_offset, kPlainRecordsStart, head, "a chunk's header");
-    Fields fields(bytes, file, chunk_offset);
-    if (fields.integer<std::uint8_t>("chunk") != kChunk) {
-      throw InputError(file, fmt::format("no chunk at byte {} (the file changed?)", chunk_offset));
+  const auto check_holds = [&](std::uint64_t records_size) {
+    if (data_offset > records_size || size > records_size - data_offset) {
+      last.records.reset();
+      throw InputError(file, fmt::format("the chunk at byte {} does not hold the message at {} "
+                                         "(the file changed?)",
+                                         chunk_offset, data_offset));
     }
-    fields.bytes(8 + 8 + 8 + 8 + 4, "chunk");  // length, times, size, CRC
-    if (fields.integer<std::uint32_t>("chunk.compression") == 0) {
-      const auto records_size = fields.integer<std::uint64_t>("chunk.records");
-      if (data_offset > records_size || size > records_size - data_offset) {
-        throw InputError(file, fmt::format("the chunk at byte {} does not hold the message at {} "
-                                           "(the file changed?)",
-                                           chunk_offset, data_offset));
-      }
-      return read_message_at(chunk_offset + kPlainRecordsStart + data_offset);
-    }
-  }
+  };
   if (!last.records || last.offset != chunk_offset || last.file != file) {
     last.records.reset();
-    last.file = file;
-    last.offset = chunk_offset;
-    std::array<char, 9> head{};
-    const std::string_view head_bytes = read_at(chunk_offset, head.size(), last.content, "a chunk");
-    std::uint64_t length = 0;
-    for (int i = 0; i < 8; ++i) {
-      length |= static_cast<std::uint64_t>(static_cast<unsigned char>(head_bytes[1 + i]))
-                << (8 * i);
-    }
-    if (static_cast<std::uint8_t>(head_bytes[0]) != kChunk || length > (std::uint64_t{1} << 31)) {
+    // The chunk record's head: its opcode and length, the chunk's two times, size, CRC and the
+    // compression's length; an uncompressed chunk's records' length and its records follow.
+    constexpr std::uint64_t kPlainRecordsStart = 1 + 8 + 8 + 8 + 8 + 4 + 4 + 8;
+    std::vector<char> head;
+    Fields fields(read_at(chunk_offset, kPlainRecordsStart, head, "a chunk's header"), file,
+                  chunk_offset);
+    const auto opcode = fields.integer<std::uint8_t>("chunk");
+    const auto length = fields.integer<std::uint64_t>("chunk");
+    if (opcode != kChunk || length > (std::uint64_t{1} << 31)) {
       throw InputError(file, fmt::format("no chunk at byte {} (the file changed?)", chunk_offset));
     }
+    fields.bytes(8 + 8 + 8 + 4, "chunk");  // times, size, CRC
+    if (fields.integer<std::uint32_t>("chunk.compression") == 0) {
+      // An uncompressed chunk's message is read alone, straight from the file.
+      check_holds(fields.integer<std::uint64_t>("chunk.records"));
+      return read_message_at(chunk_offset + kPlainRecordsStart + data_offset);
+    }
+    last.file = file;
+    last.offset = chunk_offset;
     const std::string_view chunk = read_at(chunk_offset + 9, length, last.content, "a chunk");
     last.records = std::make_unique<ChunkRecords>(chunk, last.file, chunk_offset, last.buffer);
   }
   ChunkRecords& records = *last.records;
-  if (data_offset > records.size() || size > records.size() - data_offset) {
-    last.records.reset();
-    throw InputError(file, fmt::format("the chunk at byte {} does not hold the message at {} "
-                                       "(the file changed?)",
-                                       chunk_offset, data_offset));
-  }
+  check_holds(records.size());
   const std::uint64_t end = data_offset + size;
   try {
     const std::string_view plain = end == records.size() ? records.all() : records.prefix(end);

@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <array>
-#include <cmath>
 #include <stdexcept>
 #include <vector>
 
@@ -17,8 +16,7 @@ template <std::size_t N>
 std::array<double, N> read_fixed(RosMessageReader& message, const char* field) {
   std::array<double, N> values{};
   for (double& value : values) {
-    value = message.float64(field);
-    if (!std::isfinite(value)) throw InputError(message.source(), 0, field, "not a finite number");
+    value = finite_field(message.float64(field), message.source(), field);
   }
   return values;
 }
@@ -38,8 +36,7 @@ StampedCameraInfo decode_camera_info(std::string_view bytes, RosEncoding encodin
   if (count > 16) throw InputError(source, 0, "d", fmt::format("{} coefficients", count));
   std::vector<double> d;
   for (std::uint32_t i = 0; i < count; ++i) {
-    d.push_back(message.float64("d"));
-    if (!std::isfinite(d.back())) throw InputError(source, 0, "d", "not a finite number");
+    d.push_back(finite_field(message.float64("d"), source, "d"));
   }
   const std::array<double, 9> k = read_fixed<9>(message, "k");
   read_fixed<9>(message, "r");
