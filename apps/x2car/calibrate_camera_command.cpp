@@ -16,6 +16,8 @@
 #include "x2car/camera/camera_calibration.hpp"
 #include "x2car/camera/camera_frames.hpp"
 #include "x2car/camera/video_frames.hpp"
+#include "x2car/camera_net/learned_estimator.hpp"
+#include "x2car/camera_net/vp_hl_network.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/io/autoware_yaml.hpp"
 #include "x2car/io/bag.hpp"
@@ -37,6 +39,7 @@ struct CalibrateCameraArguments {
   std::optional<int> camera_index;
   bool unrectified = false;
   std::string estimator;
+  std::string model_path;
   std::optional<int> window_frames;
   std::optional<double> max_window_std_deg;
   bool skip_bad_images = false;
@@ -44,9 +47,12 @@ struct CalibrateCameraArguments {
   OutputArguments output;
 };
 
+// The name --estimator takes for the paper's network (camera_net), beside the camera module's.
+constexpr const char* kLearnedEstimator = "learned";
+
 camera::CameraCalibrationOptions calibration_options(const CalibrateCameraArguments& arguments) {
   camera::CameraCalibrationOptions options;
-  if (!arguments.estimator.empty()) {
+  if (!arguments.estimator.empty() && arguments.estimator != kLearnedEstimator) {
     options.method = enum_from_string(camera::kCameraMethodNames, arguments.estimator, "estimator");
   }
   if (arguments.window_frames) options.filter.window_frames = *arguments.window_frames;
@@ -83,6 +89,27 @@ void write_optical_frame(const CalibrationResult& result, const OutputArguments&
         "<!-- " + note + " -->\n" + io::format_urdf(body) +
             io::format_urdf(Extrinsic{body.child_frame, optical_name, body_from_optical}));
   }
+}
+
+// --estimator learned: the network of --model, refused (exit 2) when this build has no LibTorch or
+// the network was trained for images of another shape.
+void use_learned_estimator(const std::string& model_path, const core::CameraIntrinsics& intrinsics,
+                           camera::CameraCalibrationOptions& options) {
+  if (!camera_net::network_available()) {
+    throw std::invalid_argument(camera_net::NetworkUnavailableError().what());
+  }
+  if (model_path.empty()) {
+    throw std::invalid_argument(
+        "--estimator learned needs --model FILE: a network from x2car camera-net train "
+        "(docs/methods.md, camera §1b, says how to train one)");
+  }
+  auto network =
+      std::make_shared<const camera_net::VpHlNetwork>(camera_net::VpHlNetwork::load(model_path));
+  camera_net::check_network_fits(*network, intrinsics, model_path);
+  spdlog::info("learned estimator: {} ({}x{} input)", model_path, network->options().input.width,
+               network->options().input.height);
+  options.estimator = camera_net::make_learned_estimator(std::move(network));
+  options.estimator_name = kLearnedEstimator;
 }
 
 int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
@@ -133,6 +160,11 @@ int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
           : find_camera_intrinsics(
                 arguments.input_path,
                 {arguments.intrinsics_path, arguments.camera_index, arguments.unrectified});
+  if (arguments.estimator == kLearnedEstimator) {
+    use_learned_estimator(arguments.model_path, intrinsics, options);
+  } else if (!arguments.model_path.empty()) {
+    throw std::invalid_argument("--model is for --estimator learned");
+  }
   if (!arguments.ins_path.empty()) {
     frames.motion = camera_motion_from_log(arguments.ins_path, frames, arguments.bag.ins_topic);
   }
@@ -195,9 +227,18 @@ RunCommand setup_calibrate_camera_command(CLI::App& command) {
       .add_option("--estimator", arguments->estimator,
                   "Per-frame estimator: geometric (lines' vanishing point, gravity's horizon), "
                   "motion (the car's travel and the road plane between frames), auto (pitch and "
-                  "yaw from the lines, roll from the road plane)")
-      ->check(CLI::IsMember(enum_names(camera::kCameraMethodNames)))
+                  "yaw from the lines, roll from the road plane), learned (the paper's network, "
+                  "--model)")
+      ->check(CLI::IsMember([] {
+        std::vector<std::string> names = enum_names(camera::kCameraMethodNames);
+        names.emplace_back(kLearnedEstimator);
+        return names;
+      }()))
       ->default_str(camera::to_string(defaults.method));
+  command
+      .add_option("--model", arguments->model_path,
+                  "The network of --estimator learned (x2car camera-net train writes one)")
+      ->type_name("MODEL");
   command
       .add_option("--window-frames", arguments->window_frames,
                   "Frames per steadiness window (the paper's n)")

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "x2car/camera/camera_test_support.hpp"
+#include "x2car/camera_net/vp_hl_network.hpp"
 #include "x2car/io/camera_info_yaml.hpp"
 #include "x2car/io/result_json.hpp"
 #include "x2car/io/text_lines.hpp"
@@ -1139,6 +1140,73 @@ TEST(Eval, SegmentsOfAMinuteAgainstTheTruth) {
       run_x2car("eval --input " + folder.string() + " --sensor camera --segment 1");
   EXPECT_EQ(camera.exit_code, 1) << camera.output;
   EXPECT_THAT(camera.output, HasSubstr("== camera: 2 segments, 0 gave an estimate"));
+}
+
+// The learned network from end to end (issue 15): trained on a short simulated drive, scored, and
+// used by calibrate camera; its refusals exit 2 naming what is wrong. In a build without LibTorch
+// every one of them exits 2 saying how to enable it.
+TEST(CameraNet, TrainsScoresAndCalibratesAndRefusesWhatDoesNotFit) {
+  const auto folder = std::filesystem::path(::testing::TempDir()) / "cli_camera_net";
+  std::filesystem::remove_all(folder);
+  const std::string drive = (folder / "drive").string();
+  ASSERT_EQ(run_x2car("simulate --duration 3 --sensors camera --seed 5 --out " + drive).exit_code,
+            0);
+  const std::string model = (folder / "tiny.pt").string();
+  const CliRun train = run_x2car(
+      "camera-net train --size tiny --epochs 1 --stride 3 --data " + drive + " --out " + model,
+      300);
+  if (!camera_net::network_available()) {
+    EXPECT_EQ(train.exit_code, 2) << train.output;
+    EXPECT_THAT(train.output, HasSubstr("libtorch-dev"));
+    const CliRun learned =
+        run_x2car("calibrate camera --input " + drive + " --estimator learned --model " + model);
+    EXPECT_EQ(learned.exit_code, 2) << learned.output;
+    EXPECT_THAT(learned.output, HasSubstr("libtorch-dev"));
+    return;
+  }
+  ASSERT_EQ(train.exit_code, 0) << train.output;
+  EXPECT_THAT(train.output, HasSubstr("wrote " + model));
+  EXPECT_THAT(train.output, HasSubstr("| this network (CPU) |"));
+
+  const std::string metrics = (folder / "metrics.json").string();
+  const CliRun eval =
+      run_x2car("camera-net eval --data " + drive + " --model " + model + " --out " + metrics, 300);
+  ASSERT_EQ(eval.exit_code, 0) << eval.output;
+  EXPECT_THAT(eval.output, HasSubstr("paper, Table I"));
+  const nlohmann::json scores = nlohmann::json::parse(io::read_text_file(metrics));
+  EXPECT_EQ(scores.at("frames").get<int>(), 30);
+  EXPECT_TRUE(std::isfinite(scores.at("vp_error_px_mean").get<double>()));
+
+  // Through the temporal filter: 30 frames are too few for a window of 100 (exit 1 with the
+  // reason), never a number.
+  const CliRun learned =
+      run_x2car("calibrate camera --input " + drive + " --estimator learned --model " + model);
+  EXPECT_EQ(learned.exit_code, 1) << learned.output;
+  EXPECT_THAT(learned.output, HasSubstr("need 100"));
+  EXPECT_THAT(learned.output, Not(HasSubstr("nan")));
+
+  const CliRun no_model = run_x2car("calibrate camera --input " + drive + " --estimator learned");
+  EXPECT_EQ(no_model.exit_code, 2);
+  EXPECT_THAT(no_model.output, HasSubstr("--model"));
+  EXPECT_EQ(run_x2car("calibrate camera --input " + drive + " --model " + model).exit_code, 2);
+
+  // A network trained on 1242x375 frames refuses a 1920x1080 camera, naming both.
+  std::string intrinsics = io::read_text_file(drive + "/camera/intrinsics.yaml");
+  intrinsics.replace(intrinsics.find("image_width: 1242"), 17, "image_width: 1920");
+  intrinsics.replace(intrinsics.find("image_height: 375"), 17, "image_height: 1080");
+  const auto wide = write_temp_file("cli_camera_net_1080p.yaml", intrinsics);
+  const CliRun misfit =
+      run_x2car("calibrate camera --input " + drive + " --estimator learned --model " + model +
+                " --intrinsics " + wide.string());
+  EXPECT_EQ(misfit.exit_code, 2) << misfit.output;
+  EXPECT_THAT(misfit.output, HasSubstr("1242x375"));
+  EXPECT_THAT(misfit.output, HasSubstr("1920x1080"));
+
+  const auto not_a_model = write_temp_file("cli_camera_net_not_a_model.pt", "weights");
+  const CliRun unreadable =
+      run_x2car("camera-net eval --data " + drive + " --model " + not_a_model.string());
+  EXPECT_EQ(unreadable.exit_code, 2);
+  EXPECT_THAT(unreadable.output, HasSubstr("cli_camera_net_not_a_model.pt"));
 }
 
 }  // namespace

@@ -27,6 +27,7 @@ RunCommand setup_calibrate_command(CLI::App& command);
 RunCommand setup_eval_command(CLI::App& command);
 RunCommand setup_report_command(CLI::App& command);
 RunCommand setup_inspect_command(CLI::App& command);
+RunCommand setup_camera_net_command(CLI::App& command);
 
 // The calibrators under `x2car calibrate`: calibrate_ins_command.cpp, ...
 RunCommand setup_calibrate_all_command(CLI::App& command);

@@ -31,6 +31,10 @@ std::span<const Subcommand> subcommand_table() {
                  "What a bag holds (MCAP, ROS 1, ROS 2): its topics, types, counts, rates, and "
                  "which calibrator reads each",
                  &setup_inspect_command},
+      Subcommand{"camera-net",
+                 "The paper's learned vanishing-point and horizon network: train it on simulated "
+                 "drives, score it (calibrate camera --estimator learned uses it)",
+                 &setup_camera_net_command},
   };
   return kSubcommands;
 }

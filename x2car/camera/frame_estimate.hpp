@@ -59,6 +59,7 @@ enum class HorizonSource {
   kVerticalVanishingPoint,  // the up direction is the ray to the vertical vanishing point
   kSecondHorizontal,        // the line through the road's and a second horizontal vanishing point
   kRoadPlaneMotion,         // the road plane's, from its motion between two frames
+  kNetwork,                 // the learned network's (camera_net/learned_estimator.hpp)
 };
 
 struct FrameEstimate {

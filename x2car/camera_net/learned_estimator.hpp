@@ -1,0 +1,42 @@
+// The paper's network as a per-frame estimator (`calibrate camera --estimator learned`, issue 15
+// item 4): each image resampled to the network's input with its LSD segments as line queries, the
+// predicted vanishing point mapped back to the camera's pixels (and undistorted), the horizon the
+// line through it at the predicted angle. The temporal filter and the calibrator are the same as
+// for the geometric estimator (camera/camera_calibration.hpp).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "x2car/camera/frame_estimate.hpp"
+#include "x2car/camera_net/vp_hl_network.hpp"
+#include "x2car/core/camera_model.hpp"
+
+namespace x2car::camera_net {
+
+struct LearnedEstimatorOptions {
+  double lsd_scale = 0.8;               // LSD on the network's input image
+  double min_segment_length_px = 10.0;  // input pixels
+  std::uint64_t line_seed = 1;          // which segments become queries when there are too many
+  // The camera's images may differ from the ones the network was trained on in size, but not in
+  // shape: their aspect ratios may differ by at most this share (the input is resampled per axis,
+  // so another shape would turn every line the network learnt).
+  double max_aspect_difference = 0.01;
+
+  // Throws std::invalid_argument naming the offending field.
+  void Check() const;
+};
+
+// InputError naming the model when the camera's images (the intrinsics' size) do not fit the
+// network: "model.pt was trained on 1242x375 images (aspect 3.31); this camera's are 1920x1080
+// (1.78): train a network for it (x2car camera-net train)". A network without a recorded image
+// size fits any.
+void check_network_fits(const VpHlNetwork& network, const core::CameraIntrinsics& intrinsics,
+                        const std::string& model_name, const LearnedEstimatorOptions& options = {});
+
+// The estimator; the network is shared between the calibrator's threads (predict() serialises).
+camera::FrameEstimator make_learned_estimator(std::shared_ptr<const VpHlNetwork> network,
+                                              const LearnedEstimatorOptions& options = {});
+
+}  // namespace x2car::camera_net
