@@ -213,7 +213,7 @@ int run_network_eval(const NetworkEvalArguments& arguments) {
     spdlog::error("no frames in {} drive(s)", drives.size());
     return kExitInsufficientData;
   }
-  if (arguments.threads > 0) camera_net::set_network_threads(arguments.threads);
+  camera_net::set_network_threads(arguments.threads);
   const camera_net::NetworkMetrics metrics =
       camera_net::evaluate_network(network, frames, arguments.batch_size);
   print_network_table(metrics, network.options().input, drives.front().image_size);

@@ -10,7 +10,7 @@ NetworkUnavailableError::NetworkUnavailableError()
     : std::runtime_error(
           "this x2car was built without LibTorch, so the learned camera network is not available: "
           "install libtorch-dev (scripts/setup does) and build again (cmake finds it; "
-          "-DX2CAR_WITH_TORCH=ON makes it required)") {}
+          "-DX2CAR_TORCH=ON makes it required)") {}
 
 void VpHlNetworkOptions::Check() const {
   const OptionsCheck check("VpHlNetworkOptions");

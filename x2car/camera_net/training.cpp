@@ -167,7 +167,7 @@ TrainingResult train_network(const std::vector<const LabelledFrame*>& training,
   network_options.Check();
   options.Check();
   if (training.empty()) reject_argument("train_network: no training frames");
-  if (options.threads > 0) torch::set_num_threads(options.threads);
+  set_network_threads(options.threads);
 
   VpHlNetwork network =
       resume.empty() ? VpHlNetwork(network_options, options.seed) : VpHlNetwork::load(resume);
@@ -193,6 +193,16 @@ TrainingResult train_network(const std::vector<const LabelledFrame*>& training,
   auto last_checkpoint = start;
   const std::size_t first_step = step;
 
+  const auto progress_at = [&](int epoch, std::size_t at_step, double loss) {
+    TrainingProgress report;
+    report.epoch = epoch + 1;
+    report.epochs = options.epochs;
+    report.step = at_step;
+    report.steps = steps;
+    report.loss = loss;
+    report.elapsed_s = seconds_since(start);
+    return report;
+  };
   TrainingResult result{std::move(network), {}, std::nullopt, false};
   TrainingBatch batch;
   std::vector<std::size_t> order(training.size());
@@ -232,16 +242,10 @@ TrainingResult train_network(const std::vector<const LabelledFrame*>& training,
 
       const double elapsed = seconds_since(start);
       if (progress) {
-        TrainingProgress report;
-        report.epoch = epoch + 1;
-        report.epochs = options.epochs;
-        report.step = step;
-        report.steps = steps;
-        report.loss = loss;
+        TrainingProgress report = progress_at(epoch, step, loss);
         report.vp_loss = losses.vanishing.item<double>();
         report.hl_loss = losses.horizon.item<double>();
         report.line_loss = losses.lines.item<double>();
-        report.elapsed_s = elapsed;
         report.eta_s =
             elapsed / static_cast<double>(step - first_step) * static_cast<double>(steps - step);
         progress(report);
@@ -267,13 +271,8 @@ TrainingResult train_network(const std::vector<const LabelledFrame*>& training,
                                            options.seed, options.line_vp_threshold);
     }
     if (progress) {
-      TrainingProgress report;
-      report.epoch = epoch + 1;
-      report.epochs = options.epochs;
-      report.step = step;
-      report.steps = steps;
-      report.loss = result.epoch_loss.empty() ? 0.0 : result.epoch_loss.back();
-      report.elapsed_s = seconds_since(start);
+      TrainingProgress report =
+          progress_at(epoch, step, result.epoch_loss.empty() ? 0.0 : result.epoch_loss.back());
       report.validation = result.validation;
       progress(report);
     }

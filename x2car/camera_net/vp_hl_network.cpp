@@ -1,8 +1,10 @@
 // The LibTorch half of vp_hl_network.hpp (built when X2CAR_WITH_TORCH is on).
 #include "x2car/camera_net/vp_hl_network.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <thread>
 
 #include "x2car/camera_net/vp_hl_module.hpp"
 #include "x2car/core/error.hpp"
@@ -39,7 +41,11 @@ torch::Tensor sine_positions(int rows, int cols, int width) {
 
 bool network_available() { return true; }
 
-void set_network_threads(int threads) { torch::set_num_threads(threads); }
+void set_network_threads(int threads) {
+  // LibTorch's own default counts physical cores (1 on a 2-thread machine).
+  const int all = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  torch::set_num_threads(threads > 0 ? threads : all);
+}
 
 ResidualBlockImpl::ResidualBlockImpl(int in_channels, int out_channels)
     : norm1(register_module("norm1", torch::nn::BatchNorm2d(in_channels))),

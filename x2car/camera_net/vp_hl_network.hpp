@@ -40,7 +40,8 @@ class NetworkUnavailableError : public std::runtime_error {
 // Whether this build has LibTorch.
 bool network_available();
 
-// LibTorch's threads for what follows (inference and training).
+// LibTorch's threads for what follows (inference and training); 0: as many as the machine runs
+// at once (LibTorch's own default counts physical cores only).
 void set_network_threads(int threads);
 
 struct VpHlNetworkOptions {

@@ -28,15 +28,21 @@ VpHlNetworkOptions tiny_network() {
   return options;
 }
 
-// Drawn streets (camera_test_support.hpp) from a few mountings at a small camera, with the exact
-// vanishing point and horizon as labels.
-std::vector<LabelledFrame> street_frames(const VpHlNetworkOptions& options, int count) {
+// A small camera for drawn streets: 256 x 128, 81 deg across.
+core::CameraIntrinsics small_camera() {
   core::CameraIntrinsics intrinsics;
   intrinsics.width = 256;
   intrinsics.height = 128;
   intrinsics.fx = intrinsics.fy = 150.0;
   intrinsics.cx = 127.5;
   intrinsics.cy = 63.5;
+  return intrinsics;
+}
+
+// Drawn streets (camera_test_support.hpp) from a few mountings at a small camera, with the exact
+// vanishing point and horizon as labels.
+std::vector<LabelledFrame> street_frames(const VpHlNetworkOptions& options, int count) {
+  const core::CameraIntrinsics intrinsics = small_camera();
   std::vector<LabelledFrame> frames;
   for (int i = 0; i < count; ++i) {
     camera::testing::StreetScene scene;
@@ -167,12 +173,7 @@ TEST(LearnedEstimator, GivesAFiniteEstimateAndRejectsAnImageOfTheWrongSize) {
   const VpHlNetworkOptions options = tiny_network();
   const auto network = std::make_shared<const VpHlNetwork>(options, 1);
   const camera::FrameEstimator estimator = make_learned_estimator(network);
-  core::CameraIntrinsics intrinsics;
-  intrinsics.width = 256;
-  intrinsics.height = 128;
-  intrinsics.fx = intrinsics.fy = 150.0;
-  intrinsics.cx = 127.5;
-  intrinsics.cy = 63.5;
+  const core::CameraIntrinsics intrinsics = small_camera();
   const cv::Mat image = camera::testing::draw_street({}, intrinsics);
   const camera::FrameEstimate estimate = estimator(image, intrinsics);
   ASSERT_TRUE(estimate.usable());
