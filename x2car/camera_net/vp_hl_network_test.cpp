@@ -147,6 +147,51 @@ TEST(VpHlNetwork, ATinyNetworkOverfitsAHandfulOfFrames) {
   EXPECT_LT(result.validation->vp_error_px_mean, 1.0);
 }
 
+// A run resumed from its checkpoint after the first epoch ends with the same weights as the run
+// that went through: the checkpoint holds the optimiser's state and the step, and every sample is
+// drawn from (seed, epoch, frame).
+TEST(VpHlNetwork, TrainingResumedFromACheckpointEndsWhereTheWholeRunEnds) {
+  if (!network_available()) GTEST_SKIP() << "built without LibTorch";
+  const VpHlNetworkOptions options = tiny_network();
+  const std::vector<LabelledFrame> frames = street_frames(options, 4);
+  std::vector<const LabelledFrame*> training;
+  for (const LabelledFrame& frame : frames) training.push_back(&frame);
+  TrainingOptions training_options;
+  training_options.epochs = 3;
+  training_options.batch_size = 2;
+  training_options.warmup_steps = 2;
+  training_options.threads = 1;
+  training_options.checkpoint = temp_path("camera_net_resume.ckpt");
+  const std::filesystem::path after_first = temp_path("camera_net_resume_epoch1.ckpt");
+  const auto keep_first_epoch = [&](const TrainingProgress& report) {
+    if (report.validation && report.epoch == 1) {
+      std::filesystem::copy_file(training_options.checkpoint, after_first,
+                                 std::filesystem::copy_options::overwrite_existing);
+      std::filesystem::copy_file(training_options.checkpoint.string() + ".optimizer",
+                                 after_first.string() + ".optimizer",
+                                 std::filesystem::copy_options::overwrite_existing);
+    }
+  };
+  const TrainingResult whole =
+      train_network(training, training, options, training_options, {}, keep_first_epoch);
+  ASSERT_TRUE(std::filesystem::exists(after_first));
+  const TrainingResult resumed =
+      train_network(training, training, options, training_options, after_first);
+  EXPECT_EQ(resumed.epoch_loss.size(), 2u);  // epochs 2 and 3
+  const std::vector<float> expected = whole.network.flat_weights();
+  const std::vector<float> actual = resumed.network.flat_weights();
+  ASSERT_EQ(expected.size(), actual.size());
+  float largest = 0.0f;
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    largest = std::max(largest, std::abs(expected[i] - actual[i]));
+  }
+  EXPECT_LT(largest, 1e-6f);
+  // A checkpoint of other sizes is refused.
+  VpHlNetworkOptions wider = options;
+  wider.width = 32;
+  EXPECT_THROW(train_network(training, {}, wider, training_options, after_first), InputError);
+}
+
 TEST(VpHlNetwork, AModelForAnotherImageShapeIsRefused) {
   if (!network_available()) GTEST_SKIP() << "built without LibTorch";
   VpHlNetwork network(tiny_network(), 1);
