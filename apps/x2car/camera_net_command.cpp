@@ -18,6 +18,7 @@
 #include "x2car/camera_net/training.hpp"
 #include "x2car/camera_net/training_data.hpp"
 #include "x2car/camera_net/vp_hl_network.hpp"
+#include "x2car/core/error.hpp"
 #include "x2car/io/text_lines.hpp"
 
 namespace x2car::cli {
