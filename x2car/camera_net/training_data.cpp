@@ -47,13 +47,13 @@ std::vector<FrameLabelRow> read_frame_labels(const std::filesystem::path& path) 
   return rows;
 }
 
-TrainingDrive load_training_drive(const std::filesystem::path& drive, const InputGeometry& geometry,
-                                  int stride,
-                                  const std::function<void(std::size_t, std::size_t)>& progress) {
-  if (stride < 1) reject_argument("load_training_drive: stride must be >= 1 (got {})", stride);
+TrainingDriveIndex index_training_drive(const std::filesystem::path& drive) {
   const io::ImageFolder images = io::list_images(drive);
   const std::filesystem::path labels_path = drive / "camera" / "labels.csv";
-  const std::vector<FrameLabelRow> labels = read_frame_labels(labels_path);
+  TrainingDriveIndex index;
+  index.folder = drive;
+  index.labels = read_frame_labels(labels_path);
+  const std::vector<FrameLabelRow>& labels = index.labels;
   if (labels.size() != images.images.size()) {
     throw InputError(labels_path.string(),
                      fmt::format("has {} rows but {} holds {} images: every frame needs its label",
@@ -69,10 +69,18 @@ TrainingDrive load_training_drive(const std::filesystem::path& drive, const Inpu
                                    labels[i].time_s - labels.front().time_s,
                                    images.images[i].path.filename().string(), image_time));
     }
+    index.images.push_back(images.images[i].path);
   }
+  return index;
+}
 
+TrainingDrive load_training_drive(const TrainingDriveIndex& index, const InputGeometry& geometry,
+                                  int stride,
+                                  const std::function<void(std::size_t, std::size_t)>& progress) {
+  if (stride < 1) reject_argument("load_training_drive: stride must be >= 1 (got {})", stride);
+  const std::vector<FrameLabelRow>& labels = index.labels;
   TrainingDrive result;
-  result.folder = drive;
+  result.folder = index.folder;
   std::vector<std::size_t> chosen;
   for (std::size_t i = 0; i < labels.size(); i += static_cast<std::size_t>(stride)) {
     chosen.push_back(i);
@@ -83,7 +91,7 @@ TrainingDrive load_training_drive(const std::filesystem::path& drive, const Inpu
   std::mutex progress_mutex;
   tbb::parallel_for(std::size_t{0}, chosen.size(), [&](std::size_t k) {
     const std::size_t i = chosen[k];
-    const cv::Mat grey = camera::read_grey_image(images.images[i].path);
+    const cv::Mat grey = camera::read_grey_image(index.images[i]);
     sizes[k] = grey.size();
     LabelledFrame& frame = result.frames[k];
     frame.frame = make_input_frame(grey, geometry);
@@ -99,7 +107,7 @@ TrainingDrive load_training_drive(const std::filesystem::path& drive, const Inpu
   });
   for (std::size_t k = 0; k < chosen.size(); ++k) {
     if (sizes[k] != sizes.front()) {
-      throw InputError(images.images[chosen[k]].path.string(),
+      throw InputError(index.images[chosen[k]].string(),
                        fmt::format("is {}x{}, the drive's first image {}x{}", sizes[k].width,
                                    sizes[k].height, sizes.front().width, sizes.front().height));
     }

@@ -38,12 +38,22 @@ struct FrameLabelRow {
 // Reads a labels.csv by column names; InputError naming the file, line and column.
 std::vector<FrameLabelRow> read_frame_labels(const std::filesystem::path& path);
 
-// Reads a drive folder (DIR/camera/images, timestamps.txt, labels.csv): every image decoded,
-// resampled and lined (make_input_frame) in parallel, every `stride`-th frame. InputError naming
-// the file when images and labels disagree in number or time, or an image cannot be decoded.
-// `progress(done, total)`, when given, is called from one thread at a time.
+// A drive folder's images and their labels, checked against each other but not decoded.
+struct TrainingDriveIndex {
+  std::filesystem::path folder;
+  std::vector<std::filesystem::path> images;  // in time order
+  std::vector<FrameLabelRow> labels;          // one per image
+};
+
+// Lists a drive folder (DIR/camera/images, timestamps.txt, labels.csv). InputError naming the file
+// when images and labels disagree in number or time, or either is missing or broken.
+TrainingDriveIndex index_training_drive(const std::filesystem::path& drive);
+
+// Every `stride`-th frame of an indexed drive decoded, resampled and lined (make_input_frame) in
+// parallel. InputError naming the image when it cannot be decoded or its size differs from the
+// first's. `progress(done, total)`, when given, is called from one thread at a time.
 TrainingDrive load_training_drive(
-    const std::filesystem::path& drive, const InputGeometry& geometry, int stride = 1,
+    const TrainingDriveIndex& index, const InputGeometry& geometry, int stride = 1,
     const std::function<void(std::size_t, std::size_t)>& progress = {});
 
 }  // namespace x2car::camera_net
