@@ -49,6 +49,8 @@ struct CalibrateCameraArguments {
 
 // The name --estimator takes for the paper's network (camera_net), beside the camera module's.
 constexpr const char* kLearnedEstimator = "learned";
+// The network shipped in the repository (models/README.md), where this build's sources are.
+constexpr const char* kDefaultCameraNetwork = X2CAR_MODELS_DIR "/camera_net_kitti.pt";
 
 camera::CameraCalibrationOptions calibration_options(const CalibrateCameraArguments& arguments) {
   camera::CameraCalibrationOptions options;
@@ -98,15 +100,18 @@ void use_learned_estimator(const std::string& model_path, const core::CameraIntr
   if (!camera_net::network_available()) {
     throw std::invalid_argument(camera_net::NetworkUnavailableError().what());
   }
-  if (model_path.empty()) {
-    throw std::invalid_argument(
-        "--estimator learned needs --model FILE: a network from x2car camera-net train "
-        "(docs/methods.md, camera §1b, says how to train one)");
+  // Without --model, the network trained for the KITTI camera that the repository ships.
+  const std::string path = model_path.empty() ? kDefaultCameraNetwork : model_path;
+  if (model_path.empty() && !fs::is_regular_file(path)) {
+    throw std::invalid_argument(fmt::format(
+        "--estimator learned: the default network {} is missing; give --model FILE (a network "
+        "from x2car camera-net train; docs/methods.md, camera §1b)",
+        path));
   }
   auto network =
-      std::make_shared<const camera_net::VpHlNetwork>(camera_net::VpHlNetwork::load(model_path));
-  camera_net::check_network_fits(*network, intrinsics, model_path);
-  spdlog::info("learned estimator: {} ({}x{} input)", model_path, network->options().input.width,
+      std::make_shared<const camera_net::VpHlNetwork>(camera_net::VpHlNetwork::load(path));
+  camera_net::check_network_fits(*network, intrinsics, path);
+  spdlog::info("learned estimator: {} ({}x{} input)", path, network->options().input.width,
                network->options().input.height);
   options.estimator = camera_net::make_learned_estimator(std::move(network));
   options.estimator_name = kLearnedEstimator;
@@ -236,8 +241,10 @@ RunCommand setup_calibrate_camera_command(CLI::App& command) {
       }()))
       ->default_str(camera::to_string(defaults.method));
   command
-      .add_option("--model", arguments->model_path,
-                  "The network of --estimator learned (x2car camera-net train writes one)")
+      .add_option(
+          "--model", arguments->model_path,
+          "The network of --estimator learned (x2car camera-net train writes one; default: the "
+          "shipped models/camera_net_kitti.pt, for KITTI-shaped images)")
       ->type_name("MODEL");
   command
       .add_option("--window-frames", arguments->window_frames,

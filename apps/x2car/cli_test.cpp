@@ -1185,9 +1185,10 @@ TEST(CameraNet, TrainsScoresAndCalibratesAndRefusesWhatDoesNotFit) {
   EXPECT_THAT(learned.output, HasSubstr("need 100"));
   EXPECT_THAT(learned.output, Not(HasSubstr("nan")));
 
-  const CliRun no_model = run_x2car("calibrate camera --input " + drive + " --estimator learned");
-  EXPECT_EQ(no_model.exit_code, 2);
-  EXPECT_THAT(no_model.output, HasSubstr("--model"));
+  // Without --model, the shipped network (models/camera_net_kitti.pt).
+  const CliRun shipped = run_x2car("calibrate camera --input " + drive + " --estimator learned");
+  EXPECT_EQ(shipped.exit_code, 1) << shipped.output;
+  EXPECT_THAT(shipped.output, HasSubstr("camera_net_kitti.pt"));
   EXPECT_EQ(run_x2car("calibrate camera --input " + drive + " --model " + model).exit_code, 2);
 
   // A network trained on 1242x375 frames refuses a 1920x1080 camera, naming both.
