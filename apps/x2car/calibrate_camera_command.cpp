@@ -98,7 +98,7 @@ void write_optical_frame(const CalibrationResult& result, const OutputArguments&
 void use_learned_estimator(const std::string& model_path, const core::CameraIntrinsics& intrinsics,
                            camera::CameraCalibrationOptions& options) {
   if (!camera_net::network_available()) {
-    throw std::invalid_argument(camera_net::NetworkUnavailableError().what());
+    throw camera_net::NetworkUnavailableError();
   }
   // Without --model, the network trained for the KITTI camera that the repository ships.
   const std::string path = model_path.empty() ? kDefaultCameraNetwork : model_path;

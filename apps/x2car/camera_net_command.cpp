@@ -31,7 +31,7 @@ using camera_net::TrainingDrive;
 // Refuses early, before any data is read, in a build without LibTorch (exit 2 with how to fix).
 void require_network() {
   if (!camera_net::network_available()) {
-    throw std::invalid_argument(camera_net::NetworkUnavailableError().what());
+    throw camera_net::NetworkUnavailableError();
   }
 }
 
@@ -71,13 +71,19 @@ std::vector<TrainingDrive> load_network_drives(
   return drives;
 }
 
+// The mean VP error at the camera's own resolution [px] (the input is resampled per axis; the
+// width's scale).
+double full_resolution_px(const camera_net::NetworkMetrics& metrics,
+                          const camera_net::InputGeometry& geometry, const cv::Size& image) {
+  return metrics.vp_error_px_mean * image.width / geometry.width;
+}
+
 nlohmann::json metrics_json(const camera_net::NetworkMetrics& metrics,
                             const camera_net::InputGeometry& geometry, const cv::Size& image) {
-  const double full_resolution_px = metrics.vp_error_px_mean * image.width / geometry.width;
   return {{"frames", metrics.frames},
           {"vp_error_px_mean", metrics.vp_error_px_mean},
           {"vp_error_px_median", metrics.vp_error_px_median},
-          {"vp_error_full_resolution_px_mean", full_resolution_px},
+          {"vp_error_full_resolution_px_mean", full_resolution_px(metrics, geometry, image)},
           {"hl_angle_mse", metrics.hl_angle_mse},
           {"hl_auc", metrics.hl_auc},
           {"line_accuracy", metrics.line_accuracy},
@@ -99,9 +105,9 @@ void print_network_table(const camera_net::NetworkMetrics& metrics,
       "{:.1f} |\n"
       "| no network: the input's centre, a level horizon | {:.3f} | {:.4f} | {:.1f} % | |\n",
       metrics.frames, geometry.width, geometry.height, metrics.vp_error_px_mean,
-      metrics.vp_error_px_median, metrics.vp_error_px_mean * image.width / geometry.width,
-      image.width, image.height, metrics.hl_angle_mse * 1e3, metrics.hl_auc * 100.0,
-      metrics.frames_per_second, metrics.centre_vp_error_px_mean, metrics.level_hl_angle_mse * 1e3,
+      metrics.vp_error_px_median, full_resolution_px(metrics, geometry, image), image.width,
+      image.height, metrics.hl_angle_mse * 1e3, metrics.hl_auc * 100.0, metrics.frames_per_second,
+      metrics.centre_vp_error_px_mean, metrics.level_hl_angle_mse * 1e3,
       metrics.level_hl_auc * 100.0);
 }
 

@@ -7,16 +7,13 @@
 namespace x2car::camera_net {
 
 NetworkUnavailableError::NetworkUnavailableError()
-    : std::runtime_error(
+    : std::invalid_argument(
           "this x2car was built without LibTorch, so the learned camera network is not available: "
           "install libtorch-dev (scripts/setup does) and build again (cmake finds it; "
           "-DX2CAR_TORCH=ON makes it required)") {}
 
 void VpHlNetworkOptions::Check() const {
   const OptionsCheck check("VpHlNetworkOptions");
-  // The backbone halves the input four times (stem, pooling, 1/8, tokens) and each hourglass
-  // level once more.
-  const int divisor = 1 << (4 + hourglass_depth - 1);
   check.that(input.width >= 32 && input.width % 16 == 0, "input.width",
              "must be a multiple of 16, at least 32", input.width);
   check.that(input.height >= 32 && input.height % 16 == 0, "input.height",
@@ -25,7 +22,8 @@ void VpHlNetworkOptions::Check() const {
   check.in_range("hourglass_depth", hourglass_depth, 1, 4);
   check.that(
       input.width / 8 >= (1 << hourglass_depth) && input.height / 8 >= (1 << hourglass_depth),
-      "hourglass_depth", "must leave the 1/8 feature map at least one cell at its bottom", divisor);
+      "hourglass_depth", "must leave the 1/8 feature map at least one cell at its bottom",
+      hourglass_depth);
   check.in_range("channels", channels, 4, 1024);
   check.in_range("width", width, 4, 1024);
   check.that(width % 4 == 0, "width", "must be a multiple of 4 (the 2-D sine position code)",

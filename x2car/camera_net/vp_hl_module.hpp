@@ -58,7 +58,7 @@ struct VpHlModuleImpl : torch::nn::Module {
 };
 TORCH_MODULE(VpHlModule);
 
-// Batch -> tensors.
+// Batch -> tensors: images and tokens view the batch's buffers (valid while it lives, unchanged).
 struct BatchTensors {
   torch::Tensor images, line_tokens, line_present;
 };

@@ -174,12 +174,11 @@ BatchTensors to_tensors(const NetworkBatch& batch, const VpHlNetworkOptions& opt
   const int64_t n = batch.size, h = options.input.height, w = options.input.width,
                 l = options.line_queries;
   BatchTensors tensors;
+  // Views of the batch's buffers, not copies: the network only reads its inputs.
   tensors.images =
-      torch::from_blob(const_cast<float*>(batch.images.data()), {n, 1, h, w}, torch::kFloat32)
-          .clone();
+      torch::from_blob(const_cast<float*>(batch.images.data()), {n, 1, h, w}, torch::kFloat32);
   tensors.line_tokens =
-      torch::from_blob(const_cast<float*>(batch.line_tokens.data()), {n, l, 6}, torch::kFloat32)
-          .clone();
+      torch::from_blob(const_cast<float*>(batch.line_tokens.data()), {n, l, 6}, torch::kFloat32);
   tensors.line_present =
       torch::from_blob(const_cast<std::uint8_t*>(batch.line_present.data()), {n, l}, torch::kUInt8)
           .to(torch::kBool);

@@ -31,8 +31,9 @@
 
 namespace x2car::camera_net {
 
-// The build has no LibTorch.
-class NetworkUnavailableError : public std::runtime_error {
+// The build has no LibTorch. A usage error (std::invalid_argument, exit 2 at the CLI): the request
+// cannot be met by this build, and the message says how to enable it.
+class NetworkUnavailableError : public std::invalid_argument {
  public:
   NetworkUnavailableError();
 };

@@ -64,6 +64,12 @@ std::vector<LabelledFrame> street_frames(const VpHlNetworkOptions& options, int 
   return frames;
 }
 
+std::vector<const LabelledFrame*> pointers_to(const std::vector<LabelledFrame>& frames) {
+  std::vector<const LabelledFrame*> pointers;
+  for (const LabelledFrame& frame : frames) pointers.push_back(&frame);
+  return pointers;
+}
+
 std::filesystem::path temp_path(const std::string& name) {
   return std::filesystem::path(::testing::TempDir()) / name;
 }
@@ -128,8 +134,7 @@ TEST(VpHlNetwork, ATinyNetworkOverfitsAHandfulOfFrames) {
   if (!network_available()) GTEST_SKIP() << "built without LibTorch";
   const VpHlNetworkOptions options = tiny_network();
   const std::vector<LabelledFrame> frames = street_frames(options, 4);
-  std::vector<const LabelledFrame*> training;
-  for (const LabelledFrame& frame : frames) training.push_back(&frame);
+  const std::vector<const LabelledFrame*> training = pointers_to(frames);
   TrainingOptions training_options;
   training_options.epochs = 300;
   training_options.batch_size = 4;
@@ -154,8 +159,7 @@ TEST(VpHlNetwork, TrainingResumedFromACheckpointEndsWhereTheWholeRunEnds) {
   if (!network_available()) GTEST_SKIP() << "built without LibTorch";
   const VpHlNetworkOptions options = tiny_network();
   const std::vector<LabelledFrame> frames = street_frames(options, 4);
-  std::vector<const LabelledFrame*> training;
-  for (const LabelledFrame& frame : frames) training.push_back(&frame);
+  const std::vector<const LabelledFrame*> training = pointers_to(frames);
   TrainingOptions training_options;
   training_options.epochs = 3;
   training_options.batch_size = 2;
