@@ -97,9 +97,7 @@ void write_optical_frame(const CalibrationResult& result, const OutputArguments&
 // the network was trained for images of another shape.
 void use_learned_estimator(const std::string& model_path, const core::CameraIntrinsics& intrinsics,
                            camera::CameraCalibrationOptions& options) {
-  if (!camera_net::network_available()) {
-    throw camera_net::NetworkUnavailableError();
-  }
+  camera_net::require_network();
   // Without --model, the network trained for the KITTI camera that the repository ships.
   const std::string path = model_path.empty() ? kDefaultCameraNetwork : model_path;
   if (model_path.empty() && !fs::is_regular_file(path)) {

@@ -28,13 +28,6 @@ namespace fs = std::filesystem;
 using camera_net::LabelledFrame;
 using camera_net::TrainingDrive;
 
-// Refuses early, before any data is read, in a build without LibTorch (exit 2 with how to fix).
-void require_network() {
-  if (!camera_net::network_available()) {
-    throw camera_net::NetworkUnavailableError();
-  }
-}
-
 // Every drive's images and labels are checked before any is decoded (and before a build without
 // LibTorch says so): a broken labels file is found in seconds, not after minutes of decoding.
 std::vector<camera_net::TrainingDriveIndex> index_drives(const std::vector<std::string>& folders) {
@@ -158,7 +151,8 @@ int run_network_train(const NetworkTrainArguments& arguments) {
     throw InputError(arguments.out_path, "is a folder; --out is the network file to write");
   }
   const std::vector<camera_net::TrainingDriveIndex> indexes = index_drives(arguments.data);
-  require_network();
+  // Before any image is decoded: exit 2 saying why when the network cannot be used.
+  camera_net::require_network();
   const camera_net::VpHlNetworkOptions network_options = network_size(arguments.size);
   const std::vector<TrainingDrive> drives =
       load_network_drives(indexes, network_options.input, arguments.stride);
@@ -222,7 +216,7 @@ struct NetworkEvalArguments {
 
 int run_network_eval(const NetworkEvalArguments& arguments) {
   const std::vector<camera_net::TrainingDriveIndex> indexes = index_drives(arguments.data);
-  require_network();
+  camera_net::require_network();
   const camera_net::VpHlNetwork network = camera_net::VpHlNetwork::load(arguments.model_path);
   const std::vector<TrainingDrive> drives =
       load_network_drives(indexes, network.options().input, arguments.stride);

@@ -12,6 +12,9 @@ NetworkUnavailableError::NetworkUnavailableError()
           "install libtorch-dev (scripts/setup does) and build again (cmake finds it; "
           "-DX2CAR_TORCH=ON makes it required)") {}
 
+NetworkUnavailableError::NetworkUnavailableError(const std::string& why)
+    : std::invalid_argument(why) {}
+
 void VpHlNetworkOptions::Check() const {
   const OptionsCheck check("VpHlNetworkOptions");
   check.that(input.width >= 32 && input.width % 16 == 0, "input.width",

@@ -1,4 +1,5 @@
-// The LibTorch half of vp_hl_network.hpp (built when X2CAR_WITH_TORCH is on).
+// The LibTorch half of vp_hl_network.hpp, in the plugin libx2car_network_torch.so (built when
+// X2CAR_WITH_TORCH is on; network_plugin.cpp hands these functions to network_loader.cpp).
 #include "x2car/camera_net/vp_hl_network.hpp"
 
 #include <algorithm>
@@ -37,9 +38,14 @@ torch::Tensor sine_positions(int rows, int cols, int width) {
       .reshape({rows * cols, width});
 }
 
+void delete_impl(VpHlNetwork::Impl* impl) { delete impl; }
+
 }  // namespace
 
+// Defined here too, like every function network_loader.cpp defines, so that the plugin never
+// takes the loader's definitions from the static library.
 bool network_available() { return true; }
+void require_network() {}
 
 void set_network_threads(int threads) {
   // LibTorch's own default counts physical cores (1 on a 2-thread machine).
@@ -186,16 +192,13 @@ BatchTensors to_tensors(const NetworkBatch& batch, const VpHlNetworkOptions& opt
 }
 
 VpHlNetwork::VpHlNetwork(const VpHlNetworkOptions& options, std::uint64_t seed)
-    : impl_(std::make_unique<Impl>()) {
+    : impl_(new Impl, &delete_impl) {
   options.Check();
   torch::manual_seed(seed);
   impl_->module = VpHlModule(options);
 }
 
-VpHlNetwork::VpHlNetwork(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
-VpHlNetwork::~VpHlNetwork() = default;
-VpHlNetwork::VpHlNetwork(VpHlNetwork&&) noexcept = default;
-VpHlNetwork& VpHlNetwork::operator=(VpHlNetwork&&) noexcept = default;
+VpHlNetwork::VpHlNetwork(ImplPointer impl) : impl_(std::move(impl)) {}
 
 const VpHlNetworkOptions& VpHlNetwork::options() const { return impl_->module->options; }
 const ModelProvenance& VpHlNetwork::provenance() const { return impl_->provenance; }
@@ -276,7 +279,7 @@ VpHlNetwork VpHlNetwork::load(const std::filesystem::path& path) {
     throw InputError(path.string(),
                      std::string("the network's sizes are invalid: ") + error.what());
   }
-  auto impl = std::make_unique<Impl>();
+  ImplPointer impl(new Impl, &delete_impl);
   impl->module = VpHlModule(options);
   impl->provenance.image_width = read_int("image_width");
   impl->provenance.image_height = read_int("image_height");

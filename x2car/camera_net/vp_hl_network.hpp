@@ -15,8 +15,12 @@
 //             lines: a logit each, "passes through the VP".
 // Losses (training.hpp): l_V = 1 - |cos|, l_H = |theta - theta_gt|, l_L = binary cross-entropy.
 //
-// Built without LibTorch (X2CAR_WITH_TORCH off), every function here throws
-// NetworkUnavailableError, which says how to enable it.
+// LibTorch is loaded only when a network is used: the model and its training (vp_hl_network.cpp,
+// training.cpp) are a plugin, libx2car_network_torch.so, that network_loader.cpp opens on the
+// first call here (network_backend.hpp), so that every other command starts without LibTorch's
+// ~0.3 s of start-up. Built without LibTorch (X2CAR_WITH_TORCH off), or when the plugin cannot be
+// opened, every function here but network_available() throws NetworkUnavailableError, which says
+// why and how to enable it.
 #pragma once
 
 #include <Eigen/Core>
@@ -35,11 +39,16 @@ namespace x2car::camera_net {
 // cannot be met by this build, and the message says how to enable it.
 class NetworkUnavailableError : public std::invalid_argument {
  public:
-  NetworkUnavailableError();
+  NetworkUnavailableError();  // built without LibTorch
+  explicit NetworkUnavailableError(const std::string& why);
 };
 
-// Whether this build has LibTorch.
+// Whether the network can be used: this build has LibTorch and its plugin opens (which loads
+// LibTorch, once per process).
 bool network_available();
+// Throws NetworkUnavailableError saying why when the network cannot be used (no LibTorch in the
+// build, or its plugin does not open); loads LibTorch otherwise.
+void require_network();
 
 // LibTorch's threads for what follows (inference and training); 0: as many as the machine runs
 // at once (LibTorch's own default counts physical cores only).
@@ -91,9 +100,10 @@ class VpHlNetwork {
  public:
   // A new network with weights drawn from `seed`.
   VpHlNetwork(const VpHlNetworkOptions& options, std::uint64_t seed);
-  ~VpHlNetwork();
-  VpHlNetwork(VpHlNetwork&&) noexcept;
-  VpHlNetwork& operator=(VpHlNetwork&&) noexcept;
+  // The plugin that made the network deletes it (its deleter travels with it).
+  ~VpHlNetwork() = default;
+  VpHlNetwork(VpHlNetwork&&) noexcept = default;
+  VpHlNetwork& operator=(VpHlNetwork&&) noexcept = default;
 
   // InputError naming the file when it cannot be read or is not an x2car network.
   static VpHlNetwork load(const std::filesystem::path& path);
@@ -110,12 +120,13 @@ class VpHlNetwork {
   // The weights' values in a fixed order (tests: a save -> load round trip is bit-exact).
   std::vector<float> flat_weights() const;
 
-  struct Impl;
+  struct Impl;  // the plugin's (vp_hl_module.hpp)
   Impl& impl() const { return *impl_; }
 
  private:
-  explicit VpHlNetwork(std::unique_ptr<Impl> impl);
-  std::unique_ptr<Impl> impl_;
+  using ImplPointer = std::unique_ptr<Impl, void (*)(Impl*)>;
+  explicit VpHlNetwork(ImplPointer impl);
+  ImplPointer impl_{nullptr, nullptr};
 };
 
 }  // namespace x2car::camera_net

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <opencv2/imgproc.hpp>
 
 #include "x2car/camera/camera_test_support.hpp"
@@ -72,6 +75,30 @@ std::vector<const LabelledFrame*> pointers_to(const std::vector<LabelledFrame>& 
 
 std::filesystem::path temp_path(const std::string& name) {
   return std::filesystem::path(::testing::TempDir()) / name;
+}
+
+std::string command_output(const std::string& command) {
+  std::string output;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return output;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof(buffer), pipe) != nullptr) output += buffer;
+  pclose(pipe);
+  return output;
+}
+
+// LibTorch's start-up (~0.3 s) is paid only where the network is used: no program links it, and
+// the network's first use opens the plugin that does (network_loader.cpp).
+TEST(VpHlNetwork, LibTorchIsLoadedOnlyWhenTheNetworkIsFirstUsed) {
+  const std::string program = std::filesystem::read_symlink("/proc/self/exe").string();
+  const std::string libraries = command_output("ldd '" + program + "'");
+  ASSERT_NE(libraries.find("libc.so"), std::string::npos) << libraries;
+  EXPECT_EQ(libraries.find("libtorch"), std::string::npos) << libraries;
+  if (!network_available()) GTEST_SKIP() << "built without LibTorch";
+  std::ifstream maps("/proc/self/maps");
+  const std::string mapped((std::istreambuf_iterator<char>(maps)),
+                           std::istreambuf_iterator<char>());
+  EXPECT_NE(mapped.find("libtorch_cpu"), std::string::npos);
 }
 
 TEST(VpHlNetwork, WithoutLibTorchSaysHowToEnableIt) {
