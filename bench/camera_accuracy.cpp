@@ -14,8 +14,9 @@
 // acceleration), as `x2car calibrate camera --ins` does.
 //
 // Prints one block per drive and a summary (largest |error| and segment spread per angle, against
-// the targets); --table appends one tab-separated row per drive. Exit 1 when a drive
-// cannot be read.
+// the targets, and the coverage of the standard errors over every ok result, whole drives
+// and segments: bench/coverage.hpp's check with as few runs as the drives give); --table appends
+// one tab-separated row per drive. Exit 1 when a drive cannot be read.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -28,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "coverage.hpp"
 #include "x2car/camera/camera_calibration.hpp"
 #include "x2car/camera/camera_frames.hpp"
 #include "x2car/camera/ins_motion.hpp"
@@ -149,7 +151,23 @@ struct Summary {
   Errors worst{0.0, 0.0, 0.0};
   Errors widest{0.0, 0.0, 0.0};
   double slowest_fps = INFINITY;
+  // Every ok result (whole drives and segments) against its standard errors [deg].
+  std::vector<bench::CoverageRun> roll_runs, pitch_runs, yaw_runs;
 };
+
+void add_coverage_runs(const std::string& label, const CalibrationResult& result,
+                       const Errors& errors, Summary& summary) {
+  if (!result.ok()) return;
+  const auto add = [&label](std::vector<bench::CoverageRun>& runs, double error,
+                            const std::optional<double>& standard_error) {
+    if (std::isfinite(error) && standard_error) {
+      runs.push_back({label, error, deg_from_rad(*standard_error)});
+    }
+  };
+  add(summary.roll_runs, errors.roll, result.roll_std);
+  add(summary.pitch_runs, errors.pitch, result.pitch_std);
+  add(summary.yaw_runs, errors.yaw, result.yaw_std);
+}
 
 void keep_largest(double& largest, double value) {
   if (std::isfinite(value)) largest = std::max(largest, std::abs(value));
@@ -188,6 +206,13 @@ void run(const std::string& drive, double segment_s, bool with_ins,
   for (const auto& [reason, count] : whole.rejections)
     rejected += fmt::format(" {} {}", reason, count);
   fmt::print("  rejected:{}\n", rejected.empty() ? " none" : rejected);
+  if (whole.ok()) {
+    fmt::print("  standard errors: roll {:.3f} pitch {:.3f} yaw {:.3f} deg\n",
+               deg_from_rad(whole.roll_std.value_or(NAN)),
+               deg_from_rad(whole.pitch_std.value_or(NAN)),
+               deg_from_rad(whole.yaw_std.value_or(NAN)));
+  }
+  add_coverage_runs(drive, whole, errors, summary);
   const Diagnosis diagnosis = diagnose(whole, read_labels(drive + "/camera/labels.csv"));
   if (diagnosis.frames > 0) {
     fmt::print(
@@ -206,6 +231,9 @@ void run(const std::string& drive, double segment_s, bool with_ins,
     const CalibrationResult part =
         camera::calibrate_camera(slice(frames, begin, end), intrinsics, options);
     const Errors e = errors_of(part, truth);
+    add_coverage_runs(
+        fmt::format("{} from {:.0f} s", drive, frames.times[begin] - frames.times.front()), part, e,
+        summary);
     fmt::print("  segment {:.0f}-{:.0f} s: {} roll {:+.3f} pitch {:+.3f} yaw {:+.3f} deg\n",
                frames.times[begin] - frames.times.front(),
                frames.times[end - 1] - frames.times.front(), to_string(part.status), e.roll,
@@ -283,6 +311,20 @@ int main(int argc, char** argv) {
         "(target 0.1); slowest {:.1f} frames/s\n",
         summary.drives, summary.failed, summary.worst.roll, summary.worst.pitch, summary.worst.yaw,
         summary.widest.roll, summary.widest.pitch, summary.widest.yaw, summary.slowest_fps);
+  }
+  // Rendered drives are few: the check's 50 runs are not asked for here, the rest of it is.
+  bench::CoverageCriteria criteria;
+  criteria.min_runs = 1;
+  for (const auto& [angle, runs] :
+       {std::pair{"roll", &summary.roll_runs}, std::pair{"pitch", &summary.pitch_runs},
+        std::pair{"yaw", &summary.yaw_runs}}) {
+    if (runs->empty()) continue;
+    const bench::CoverageSummary coverage = bench::summarise_coverage(*runs, criteria);
+    fmt::print(
+        "coverage of the {} standard error over {} ok results: {} within 2 SE ({:.0f} %); median "
+        "|error| {:.3f}, median SE {:.3f} deg: {}\n",
+        angle, coverage.runs, coverage.covered, 100.0 * coverage.fraction,
+        coverage.median_abs_error, coverage.median_standard_error, coverage.verdict);
   }
   return status;
 }
