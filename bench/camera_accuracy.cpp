@@ -231,9 +231,11 @@ void run(const std::string& drive, double segment_s, bool with_ins,
     const CalibrationResult part =
         camera::calibrate_camera(slice(frames, begin, end), intrinsics, options);
     const Errors e = errors_of(part, truth);
-    add_coverage_runs(
-        fmt::format("{} from {:.0f} s", drive, frames.times[begin] - frames.times.front()), part, e,
-        summary);
+    if (begin > 0 || end < frames.times.size()) {  // not the whole drive again
+      add_coverage_runs(
+          fmt::format("{} from {:.0f} s", drive, frames.times[begin] - frames.times.front()), part,
+          e, summary);
+    }
     fmt::print("  segment {:.0f}-{:.0f} s: {} roll {:+.3f} pitch {:+.3f} yaw {:+.3f} deg\n",
                frames.times[begin] - frames.times.front(),
                frames.times[end - 1] - frames.times.front(), to_string(part.status), e.roll,
