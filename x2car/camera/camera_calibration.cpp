@@ -25,6 +25,7 @@ void CameraCalibrationOptions::Check() const {
   filter.Check();
   check.positive("max_window_disagreement", max_window_disagreement);
   check.at_least("gravity_horizon_roll_floor", gravity_horizon_roll_floor, 0.0);
+  check.at_least("unknown_motion_pitch_floor", unknown_motion_pitch_floor, 0.0);
 }
 
 namespace {
@@ -340,6 +341,16 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
         deg_from_rad(options.gravity_horizon_roll_floor));
   }
   result.pitch_std = estimate.standard_error.pitch;
+  if (frames.motion.empty()) {
+    // The car's acceleration is unknown: the body's pitch on its suspension may be in (options).
+    result.pitch_std = std::hypot(*result.pitch_std, options.unknown_motion_pitch_floor);
+    result.diagnostics["unknown_motion_pitch_floor_deg"] =
+        deg_from_rad(options.unknown_motion_pitch_floor);
+    result.reason += fmt::format(
+        "{}pitch without the car's motion (--ins): a steady acceleration pitches the body, and its "
+        "standard error includes {:.2g} deg for it",
+        result.reason.empty() ? "" : "; ", deg_from_rad(options.unknown_motion_pitch_floor));
+  }
   result.yaw_std = estimate.standard_error.yaw;
   const EulerAngles spread = window_spread(filter.windows());
   result.diagnostics["window_spread_roll_deg"] = deg_from_rad(spread.roll);

@@ -76,6 +76,13 @@ struct CameraCalibrationOptions {
   // direction); 0.6 deg as one standard error covers it at two [rad]. The road plane's horizon
   // (motion, auto) does not carry it.
   double gravity_horizon_roll_floor = rad_from_deg(0.6);
+  // Added in quadrature to the pitch's standard error when the car's motion is unknown (no
+  // CameraFrameSource::motion, `--ins`): a car that speeds up or brakes pitches on its suspension
+  // (passenger cars: 1-2 deg per g of longitudinal acceleration), and a window held through a
+  // steady acceleration is steady, so it passes with that pitch and no spread shows it. 0.15 deg is
+  // 1 m/s^2 (0.1 g) held through a window at 1.5 deg per g [rad]. With the motion known those
+  // frames are gated (`accelerating`) and it is not added.
+  double unknown_motion_pitch_floor = rad_from_deg(0.15);
   // A frame whose `read` throws InputError (a truncated or corrupt image) is skipped and counted
   // (rejections["unreadable_image"], the first message in `reason`). Off: the InputError ends the
   // run. An image whose size is not the intrinsics' always ends it (the wrong intrinsics).

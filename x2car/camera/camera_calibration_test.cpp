@@ -85,6 +85,23 @@ TEST(CalibrateCamera, ACurvingRoadGivesNoNumber) {
       << result.reason;
 }
 
+// A steady acceleration pitches the body through a whole window, and only the car's motion shows
+// it: without the motion the pitch's standard error holds a floor for it, and the note says so.
+TEST(CalibrateCamera, WithoutTheCarsMotionThePitchStandardErrorHoldsTheBodysPitch) {
+  const CameraCalibrationOptions options = short_windows();
+  CameraFrameSource frames = street_drive(36);
+  const CalibrationResult alone = calibrate_camera(frames, core::camera_preset("kitti"), options);
+  ASSERT_TRUE(alone.ok()) << alone.reason;
+  EXPECT_GE(*alone.pitch_std, options.unknown_motion_pitch_floor);
+  EXPECT_THAT(alone.reason, ::testing::HasSubstr("--ins"));
+  frames.motion.assign(36, VehicleMotion{10.0, 0.0});
+  const CalibrationResult gated = calibrate_camera(frames, core::camera_preset("kitti"), options);
+  ASSERT_TRUE(gated.ok()) << gated.reason;
+  EXPECT_LT(*gated.pitch_std, options.unknown_motion_pitch_floor);
+  EXPECT_THAT(gated.reason, ::testing::Not(::testing::HasSubstr("--ins")));
+  EXPECT_DOUBLE_EQ(*gated.pitch, *alone.pitch);
+}
+
 // With the car's motion known, turning and slow frames are never decoded and are counted.
 TEST(CalibrateCamera, GatesByTheCarsMotionBeforeDecoding) {
   CameraFrameSource frames = street_drive(30);
