@@ -346,10 +346,10 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
     result.pitch_std = std::hypot(*result.pitch_std, options.unknown_motion_pitch_floor);
     result.diagnostics["unknown_motion_pitch_floor_deg"] =
         deg_from_rad(options.unknown_motion_pitch_floor);
-    result.reason += fmt::format(
-        "{}pitch without the car's motion (--ins): a steady acceleration pitches the body, and its "
-        "standard error includes {:.2g} deg for it",
-        result.reason.empty() ? "" : "; ", deg_from_rad(options.unknown_motion_pitch_floor));
+    append_reason(result, fmt::format("pitch without the car's motion (--ins): a steady "
+                                      "acceleration pitches the body, and its standard error "
+                                      "includes {:.2g} deg for it",
+                                      deg_from_rad(options.unknown_motion_pitch_floor)));
   }
   result.yaw_std = estimate.standard_error.yaw;
   const EulerAngles spread = window_spread(filter.windows());
@@ -366,8 +366,7 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
                     deg_from_rad(spread.yaw), deg_from_rad(options.max_window_disagreement)));
   }
   if (read_error) {
-    result.reason += fmt::format("{}unreadable images skipped, the first: {}",
-                                 result.reason.empty() ? "" : "; ", *read_error);
+    append_reason(result, fmt::format("unreadable images skipped, the first: {}", *read_error));
   }
   return result;
 }

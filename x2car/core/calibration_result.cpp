@@ -40,4 +40,8 @@ CalibrationResult mark_unreliable(CalibrationResult result, std::string reason) 
   return result;
 }
 
+void append_reason(CalibrationResult& result, const std::string& text) {
+  result.reason += result.reason.empty() ? text : "; " + text;
+}
+
 }  // namespace x2car

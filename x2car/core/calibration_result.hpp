@@ -90,6 +90,9 @@ CalibrationResult insufficient_data(std::string sensor, std::string reason);
 // and evidence for inspection.
 CalibrationResult mark_unreliable(CalibrationResult result, std::string reason);
 
+// Adds `text` to `result.reason`, after a "; " when it already holds something.
+void append_reason(CalibrationResult& result, const std::string& text);
+
 // Every status's name, in declaration order: "ok", "insufficient_data", "unreliable".
 std::vector<std::string> calibration_status_names();
 

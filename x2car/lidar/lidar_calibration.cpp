@@ -339,10 +339,6 @@ void write_path_series(const SensorTrack& track, CalibrationResult& result) {
   result.series.push_back(std::move(y));
 }
 
-void append_reason(CalibrationResult& result, const std::string& text) {
-  result.reason += result.reason.empty() ? text : "; " + text;
-}
-
 // Roll, pitch and height from the ground frames (DESIGN §2): the typed estimate of the ground.
 struct GroundEstimate {
   FrameEstimate roll;    // [rad]
