@@ -139,9 +139,13 @@ SurfaceLook surface_look(const World& world, const SurfaceHit& hit,
   const Eigen::Vector3d& p = point_world;
   switch (hit.surface) {
     case Surface::kAsphalt: {
-      // Grain of a few centimetres and patches of a few metres (repairs, wear).
+      // Texture at every scale, as real asphalt has: patches of a few metres (repairs, wear),
+      // stains and ruts of decimetres, clusters of stones of a few centimetres, and the grain.
+      // The middle scales are what a feature tracker follows on a real road (road_plane_motion).
       const float patches = 0.8f + 0.4f * value_noise(p.x() / 3.0, p.y() / 3.0, 1u);
-      return {base * (patches * (0.9f + 0.2f * grain(p, 0.04, 2u))), 0.0f};
+      const float stains = 0.8f + 0.4f * value_noise(p.x() / 0.6, p.y() / 0.6, 8u);
+      const float stones = 0.8f + 0.4f * value_noise(p.x() / 0.12, p.y() / 0.12, 9u);
+      return {base * (patches * stains * stones * (0.9f + 0.2f * grain(p, 0.04, 2u))), 0.0f};
     }
     case Surface::kLanePaint:
       return {base * (0.9f + 0.1f * grain(p, 0.05, 3u)), 0.0f};
