@@ -14,6 +14,7 @@
 #include "x2car/sim/camera_labels.hpp"
 #include "x2car/sim/camera_model.hpp"
 #include "x2car/sim/camera_rays.hpp"
+#include "x2car/sim/camera_shading.hpp"
 #include "x2car/sim/world_mesh.hpp"
 
 namespace x2car::sim {
@@ -363,6 +364,48 @@ TEST(CameraRender, EdgePixelsAreSupersampled) {
   };
   EXPECT_EQ(mixed(sharp), 0);
   EXPECT_GE(mixed(smooth), 5);
+}
+
+TEST(CameraShading, TheAsphaltHasTextureAtTheScaleATrackerFollows) {
+  // A feature tracker (the camera's motion estimator) needs corners on the road at the scale of
+  // its window: 21 px are 20-40 cm of road at 5-15 m ahead of a KITTI camera. A road whose tone
+  // changes only over metres (patches) and below a pixel (grain) offers none. So squares of 30 cm
+  // (which average the grain away) must differ from their neighbours by a few per cent of the tone:
+  // 7.2 % RMS here; 1.6 % before the asphalt had stains and stones.
+  const World world = bare_street();
+  const auto asphalt = std::find_if(world.objects.begin(), world.objects.end(), [](const auto& o) {
+    return o.kind == ObjectKind::kRoad && o.material.surface == Surface::kAsphalt;
+  });
+  ASSERT_NE(asphalt, world.objects.end());
+  SurfaceHit hit;
+  hit.object_id = asphalt->id;
+  hit.surface = Surface::kAsphalt;
+  hit.normal = Eigen::Vector3f::UnitZ();
+  constexpr double kSquare = 0.3, kStep = 0.01;  // [m]
+  auto square_tone = [&](double x0, double y0) {
+    double sum = 0.0;
+    int count = 0;
+    for (double x = x0; x < x0 + kSquare; x += kStep) {
+      for (double y = y0; y < y0 + kSquare; y += kStep) {
+        sum += surface_look(world, hit, Eigen::Vector3d(x, y, 0.0)).albedo.y();
+        ++count;
+      }
+    }
+    return sum / count;
+  };
+  double squared_change = 0.0, tone = 0.0;
+  int pairs = 0;
+  for (double x = 100.0; x < 130.0; x += 2.0 * kSquare) {
+    for (double y = -1.5; y < 1.5; y += 2.0 * kSquare) {
+      const double here = square_tone(x, y), ahead = square_tone(x + kSquare, y);
+      squared_change += (ahead - here) * (ahead - here);
+      tone += here;
+      ++pairs;
+    }
+  }
+  const double relative_change = std::sqrt(squared_change / pairs) / (tone / pairs);
+  EXPECT_GT(relative_change, 0.04)
+      << "neighbouring 30 cm squares differ by " << 100.0 * relative_change << " % (RMS)";
 }
 
 TEST(CameraRenderOptions, CheckNamesTheOffendingField) {
