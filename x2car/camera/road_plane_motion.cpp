@@ -74,6 +74,53 @@ void track_step(const cv::Mat& from, const cv::Mat& to, const RoadPlaneMotionOpt
   }
 }
 
+// Step 1b (RoadPlaneMotionOptions::prewarp): the homography (in pixels, RANSAC) that the live
+// tracks fit, the oldest image warped by it into the current one's view, and each corner tracked
+// again from its predicted place, one pyramid level, forward and back. Through a lens with
+// distortion the pixels' homography is only a prediction; the second tracking absorbs the rest.
+// Without enough live tracks, or without a homography, the tracks stay as they were.
+void retrack_through_homography(const cv::Mat& oldest, const cv::Mat& current,
+                                const RoadPlaneMotionOptions& options,
+                                const std::vector<cv::Point2f>& corners,
+                                std::vector<cv::Point2f>& points,
+                                std::vector<unsigned char>& alive) {
+  std::vector<cv::Point2f> from;
+  std::vector<cv::Point2f> to;
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    if (!alive[i]) continue;
+    from.push_back(corners[i]);
+    to.push_back(points[i]);
+  }
+  if (from.size() < static_cast<std::size_t>(std::max(options.min_inliers, 8))) return;
+  // A looser threshold than step 3's: the first tracks are the biased ones being mended.
+  const cv::Mat homography =
+      cv::findHomography(from, to, cv::RANSAC, 2.0 * options.ransac_threshold_px);
+  if (homography.empty()) return;
+  cv::Mat warped;
+  cv::warpPerspective(oldest, warped, homography, oldest.size(), cv::INTER_LINEAR);
+  std::vector<cv::Point2f> predicted;
+  cv::perspectiveTransform(corners, predicted, homography);
+  std::vector<cv::Point2f> tracked = predicted;
+  std::vector<cv::Point2f> back;
+  std::vector<unsigned char> forward_ok;
+  std::vector<unsigned char> back_ok;
+  std::vector<float> errors;
+  const cv::Size window(options.tracking_window_px, options.tracking_window_px);
+  const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01);
+  cv::calcOpticalFlowPyrLK(warped, current, predicted, tracked, forward_ok, errors, window, 1,
+                           criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+  cv::calcOpticalFlowPyrLK(current, warped, tracked, back, back_ok, errors, window, 1, criteria);
+  const double max_miss_squared = options.max_forward_backward_px * options.max_forward_backward_px;
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    const cv::Point2f miss = back[i] - predicted[i];
+    const cv::Point2f& p = tracked[i];
+    alive[i] = forward_ok[i] && back_ok[i] && miss.dot(miss) <= max_miss_squared && p.x >= 0.0f &&
+               p.y >= 0.0f && p.x <= static_cast<float>(current.cols - 1) &&
+               p.y <= static_cast<float>(current.rows - 1);
+    points[i] = p;
+  }
+}
+
 // Step 1: Shi-Tomasi corners below the road region's top row in the oldest frame, tracked frame by
 // frame into the current one.
 void track_road_points(const std::vector<cv::Mat>& greys, const core::CameraIntrinsics& intrinsics,
@@ -94,6 +141,8 @@ void track_road_points(const std::vector<cv::Mat>& greys, const core::CameraIntr
   for (std::size_t k = 1; k < greys.size(); ++k) {
     track_step(greys[k - 1], greys[k], options, points, alive);
   }
+  if (options.prewarp)
+    retrack_through_homography(oldest, greys.back(), options, corners, points, alive);
   for (std::size_t i = 0; i < corners.size(); ++i) {
     if (!alive[i]) continue;
     oldest_px.emplace_back(corners[i].x, corners[i].y);
