@@ -8,7 +8,9 @@
 // and heading in its lane), and the road's crossfall (the gravity horizon's angle against the
 // road's) [deg], which the horizon of vertical edges cannot see.
 //
-//   x2car_camera_accuracy [--segment 60] [--window-frames 100] [--ins] [--table FILE] DRIVE...
+//   x2car_camera_accuracy [--segment 60] [--window-frames 100] [--ins] [--estimator
+//   geometric|motion|auto]
+//                         [--table FILE] DRIVE...
 //
 // --ins gates the frames by the drive's GNSS/INS log (DRIVE/ins/novatel_enu.csv: speed, yaw rate,
 // acceleration), as `x2car calibrate camera --ins` does.
@@ -290,6 +292,8 @@ int main(int argc, char** argv) {
       options.filter.window_frames = std::atoi(argv[++i]);
     } else if (argument == "--ins") {
       with_ins = true;
+    } else if (argument == "--estimator" && i + 1 < argc) {
+      options.method = enum_from_string(camera::kCameraMethodNames, argv[++i], "--estimator");
     } else if (argument == "--table" && i + 1 < argc) {
       table.open(argv[++i], std::ios::app);
     } else {

@@ -37,8 +37,10 @@ struct FrameRecord {
   bool gated = false;  // the motion gate skipped it before decoding
   FrameEstimate estimate;
   std::optional<EulerAngles> angles;      // from a usable estimate, unless degenerate
-  std::optional<std::string> read_error;  // skip_bad_images caught an InputError
-  std::exception_ptr error;               // anything else: ends the run
+  std::optional<double> road_plane_roll;  // auto: the roll with the road plane's horizon
+  std::optional<FrameRejection> road_plane_rejection;  // auto: why the frame pair gave none
+  std::optional<std::string> read_error;               // skip_bad_images caught an InputError
+  std::exception_ptr error;                            // anything else: ends the run
 };
 
 std::string frame_name(const CameraFrameSource& frames, std::size_t index) {
@@ -126,15 +128,11 @@ FrameEstimate estimate_sequence(const CameraFrameSource& frames,
   return estimator(sequence, intrinsics);
 }
 
-// auto: the lines' vanishing point with the road plane's horizon.
+// auto: the lines' estimate (their vanishing point, gravity's horizon: steady, for the window's
+// test) with the road plane's horizon beside it when the pair gave one (averaged for the roll).
 FrameEstimate combine(const FrameEstimate& lines, const FrameEstimate& road) {
-  if (!lines.usable()) return lines;
-  if (!road.usable()) return road;
   FrameEstimate combined = lines;
-  combined.horizon_line = road.horizon_line;
-  combined.horizon_source = road.horizon_source;
-  combined.horizon_inliers = road.road_inliers;
-  combined.quality = std::min(lines.quality, road.quality);
+  if (lines.usable() && road.usable()) combined.road_plane_horizon_line = road.horizon_line;
   return combined;
 }
 
@@ -156,10 +154,13 @@ void estimate_frame(const CameraFrameSource& frames, const core::CameraIntrinsic
   }
   if (estimators.single && estimators.sequence) {
     const FrameEstimate lines = estimators.single(image, intrinsics);
-    record.estimate = lines.usable()
-                          ? combine(lines, estimate_sequence(frames, intrinsics, options,
-                                                             estimators.sequence, index, image))
-                          : lines;
+    record.estimate = lines;
+    if (lines.usable()) {
+      const FrameEstimate road =
+          estimate_sequence(frames, intrinsics, options, estimators.sequence, index, image);
+      record.estimate = combine(lines, road);
+      record.road_plane_rejection = road.rejection;
+    }
   } else if (estimators.sequence) {
     record.estimate =
         estimate_sequence(frames, intrinsics, options, estimators.sequence, index, image);
@@ -170,6 +171,13 @@ void estimate_frame(const CameraFrameSource& frames, const core::CameraIntrinsic
   record.angles =
       vehicle_from_camera_angles(record.estimate.road_vanishing_point_px,
                                  record.estimate.horizon_line, intrinsics.camera_matrix());
+  if (record.angles && record.estimate.road_plane_horizon_line) {
+    if (const std::optional<EulerAngles> road_plane = vehicle_from_camera_angles(
+            record.estimate.road_vanishing_point_px, *record.estimate.road_plane_horizon_line,
+            intrinsics.camera_matrix())) {
+      record.road_plane_roll = road_plane->roll;
+    }
+  }
 }
 
 // Every frame through the estimator (in parallel) and the filter (in order).
@@ -217,8 +225,8 @@ std::vector<FrameRecord> run_frames(const CameraFrameSource& frames,
                   stopping = true;
                   return;
                 }
-                verdicts[index] =
-                    filter.add(frames.times[index], record.angles, motion_at(frames, index));
+                verdicts[index] = filter.add(frames.times[index], record.angles,
+                                             motion_at(frames, index), record.road_plane_roll);
                 if (options.progress) options.progress(index + 1, count);
               }));
   if (first_error) std::rethrow_exception(first_error);
@@ -238,6 +246,9 @@ void count_frames(const std::vector<FrameRecord>& records,
       ++result.rejections[to_string(*record.estimate.rejection)];
     } else if (!record.angles) {
       ++result.rejections["degenerate_geometry"];
+    } else if (record.road_plane_rejection) {
+      // auto: a usable frame (the lines' angles) whose pair gave no road plane.
+      ++result.support[fmt::format("road_plane_{}", to_string(*record.road_plane_rejection))];
     }
   }
 }
@@ -251,6 +262,7 @@ void write_series(const CameraFrameSource& frames, const std::vector<FrameRecord
   Series pitch{"frame_pitch", "rad", {}, {}};
   Series yaw{"frame_yaw", "rad", {}, {}};
   Series quality{"frame_quality", "", {}, {}};
+  Series road_plane_roll{"frame_road_plane_roll", "rad", {}, {}};
   Series in_window{"in_window", "", frames.times, std::vector<double>(frames.times.size(), 0.0)};
   for (const FilterWindow& window : filter.windows()) {
     for (std::size_t i = window.first_frame; i <= window.last_frame; ++i) in_window.value[i] = 1.0;
@@ -270,10 +282,12 @@ void write_series(const CameraFrameSource& frames, const std::vector<FrameRecord
     push(pitch, record.angles->pitch);
     push(yaw, record.angles->yaw);
     push(quality, record.estimate.quality);
+    if (record.road_plane_roll) push(road_plane_roll, *record.road_plane_roll);
   }
   for (Series* series : {&vp_u, &vp_v, &horizon, &roll, &pitch, &yaw, &quality, &in_window}) {
     result.series.push_back(std::move(*series));
   }
+  if (!road_plane_roll.time.empty()) result.series.push_back(std::move(road_plane_roll));
 }
 
 // Largest minus smallest window mean of each angle [rad].
@@ -330,7 +344,17 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
   result.pitch = estimate.angles.pitch;
   result.yaw = estimate.angles.yaw;
   result.roll_std = estimate.standard_error.roll;
-  if (!options.estimator && options.method == CameraMethod::kGeometric) {
+  result.support["road_plane_windows"] = static_cast<std::int64_t>(estimate.road_plane_windows);
+  result.support["road_plane_frames"] = static_cast<std::int64_t>(estimate.road_plane_frames);
+  const bool roll_from_road_plane = estimate.road_plane_windows == estimate.windows ||
+                                    (!options.estimator && options.method == CameraMethod::kMotion);
+  if (!options.estimator && options.method == CameraMethod::kAuto && roll_from_road_plane) {
+    result.reason = fmt::format(
+        "roll from the road plane's horizon (its motion between frames), the mean of {} frames "
+        "in {} steady windows",
+        estimate.road_plane_frames, estimate.road_plane_windows);
+  }
+  if (!options.estimator && options.method != CameraMethod::kMotion && !roll_from_road_plane) {
     // Gravity's horizon: the road's crossfall under the windows is in the roll (options).
     result.roll_std = std::hypot(*result.roll_std, options.gravity_horizon_roll_floor);
     result.diagnostics["gravity_horizon_roll_floor_deg"] =

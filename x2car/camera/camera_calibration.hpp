@@ -37,8 +37,9 @@ enum class CameraMethod {
                //   (gravity's) horizon, from each image alone
   kMotion,     // "motion": the car's travel (pitch, yaw) and the road plane (roll) from each frame
                //   and the one before it (road_plane_motion.hpp)
-  kAuto,       // "auto": pitch and yaw from the lines' vanishing point (the more precise), roll
-               //   from the road plane's motion (the road's horizon, not gravity's)
+  kAuto,       // "auto": the lines' angles decide which windows are steady and give pitch and
+               //   yaw (the more precise); the roll is the road plane's (the road's horizon, not
+               //   gravity's, from its motion), averaged over each window (temporal_filter.hpp)
 };
 
 constexpr std::array<EnumName<CameraMethod>, 3> kCameraMethodNames{{
@@ -74,7 +75,7 @@ struct CameraCalibrationOptions {
   // cross slope tilts it against gravity, and a drive's windows share one side of the road. Road
   // design puts that slope at 1.5-2.5 % on straight roads (0.9-1.4 deg, one way per driving
   // direction); 0.6 deg as one standard error covers it at two [rad]. The road plane's horizon
-  // (motion, auto) does not carry it.
+  // (motion; auto when every steady window has enough frames with one) does not carry it.
   double gravity_horizon_roll_floor = rad_from_deg(0.6);
   // Added in quadrature to the pitch's standard error when the car's motion is unknown (no
   // CameraFrameSource::motion, `--ins`): a car that speeds up or brakes pitches on its suspension

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include "x2car/core/enum_names.hpp"
 #include "x2car/core/options_check.hpp"
@@ -27,6 +28,8 @@ void TemporalFilterOptions::Check() const {
   check.non_negative("standard_error_floor.roll", standard_error_floor.roll);
   check.non_negative("standard_error_floor.pitch", standard_error_floor.pitch);
   check.non_negative("standard_error_floor.yaw", standard_error_floor.yaw);
+  check.at_least("min_road_plane_frames", min_road_plane_frames, 2);
+  check.positive("road_plane_clip", road_plane_clip);
 }
 
 namespace {
@@ -92,8 +95,49 @@ bool TemporalFilter::window_passes(EulerAngles& mean, EulerAngles& std) const {
   return largest(std) < options_.max_window_std;
 }
 
+// The window's roll from its frames' road-plane rolls, when enough of them have one: their
+// clipped mean, and its standard error as the window's roll spread.
+void TemporalFilter::take_road_plane_roll(FilterWindow& window) const {
+  std::vector<double> rolls;
+  rolls.reserve(window_.size());
+  const double reference = window.mean.roll;
+  for (const Buffered& frame : window_) {
+    if (frame.road_plane_roll) rolls.push_back(angle_difference(*frame.road_plane_roll, reference));
+  }
+  const auto enough = static_cast<std::size_t>(options_.min_road_plane_frames);
+  if (rolls.size() < enough) return;
+  const auto median_of = [](std::vector<double> values) {
+    const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+    std::nth_element(values.begin(), middle, values.end());
+    return *middle;
+  };
+  const double median = median_of(rolls);
+  std::vector<double> deviations(rolls.size());
+  std::transform(rolls.begin(), rolls.end(), deviations.begin(),
+                 [median](double roll) { return std::abs(roll - median); });
+  // 1.4826: the median absolute deviation of a normal distribution in units of its std.
+  const double limit = options_.road_plane_clip * 1.4826 * median_of(deviations);
+  double sum = 0.0;
+  double sum_squares = 0.0;
+  std::size_t kept = 0;
+  for (const double roll : rolls) {
+    if (std::abs(roll - median) > limit) continue;
+    sum += roll;
+    sum_squares += roll * roll;
+    ++kept;
+  }
+  if (kept < enough) return;
+  const double n = static_cast<double>(kept);
+  const double mean = sum / n;
+  const double std = std::sqrt(std::max(0.0, (sum_squares - n * mean * mean) / (n - 1.0)));
+  window.mean.roll = wrap_angle(reference + mean);
+  window.std.roll = std / std::sqrt(0.5 * n);
+  window.road_plane_frames = kept;
+}
+
 FrameVerdict TemporalFilter::add(double time_s, const std::optional<EulerAngles>& angles,
-                                 const std::optional<VehicleMotion>& motion) {
+                                 const std::optional<VehicleMotion>& motion,
+                                 std::optional<double> road_plane_roll) {
   if (!std::isfinite(time_s) || (last_time_ && time_s <= *last_time_)) {
     reject_argument(
         "TemporalFilter::add: frame time {} s is not finite or not after the "
@@ -119,7 +163,8 @@ FrameVerdict TemporalFilter::add(double time_s, const std::optional<EulerAngles>
   if (window_.size() == static_cast<std::size_t>(options_.window_frames)) {
     window_.erase(window_.begin());
   }
-  window_.push_back({frame, time_s, *angles});
+  if (road_plane_roll && !std::isfinite(*road_plane_roll)) road_plane_roll.reset();
+  window_.push_back({frame, time_s, *angles, road_plane_roll});
   if (window_.size() < static_cast<std::size_t>(options_.window_frames)) return verdict;
 
   FilterWindow passed;
@@ -133,6 +178,7 @@ FrameVerdict TemporalFilter::add(double time_s, const std::optional<EulerAngles>
   passed.last_frame = window_.back().frame;
   passed.start_time = window_.front().time;
   passed.end_time = window_.back().time;
+  take_road_plane_roll(passed);
   windows_.push_back(passed);
   window_.clear();  // the next window starts after this one: windows share no frames
   return FrameVerdict::kWindowPassed;
@@ -168,6 +214,10 @@ FilterEstimate TemporalFilter::current() const {
   values.reserve(windows_.size());
   for (const FilterWindow& window : windows_) {
     estimate.frames_in_windows += window.last_frame - window.first_frame + 1;
+    if (window.road_plane_frames > 0) {
+      ++estimate.road_plane_windows;
+      estimate.road_plane_frames += window.road_plane_frames;
+    }
     times.push_back(0.5 * (window.start_time + window.end_time));
   }
   for (double EulerAngles::*angle : kAngles) {
