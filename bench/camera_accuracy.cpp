@@ -8,9 +8,8 @@
 // and heading in its lane), and the road's crossfall (the gravity horizon's angle against the
 // road's) [deg], which the horizon of vertical edges cannot see.
 //
-//   x2car_camera_accuracy [--segment 60] [--window-frames 100] [--ins] [--estimator
-//   geometric|motion|auto]
-//                         [--table FILE] DRIVE...
+//   x2car_camera_accuracy [--segment 60] [--window-frames 100] [--ins]
+//                         [--estimator geometric|motion|auto] [--table FILE] DRIVE...
 //
 // --ins gates the frames by the drive's GNSS/INS log (DRIVE/ins/novatel_enu.csv: speed, yaw rate,
 // acceleration), as `x2car calibrate camera --ins` does.
