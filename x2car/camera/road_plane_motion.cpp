@@ -290,6 +290,24 @@ FrameEstimate estimate_road_plane_motion(const std::vector<cv::Mat>& frames,
   return road_plane_from_tracks(oldest_px, current_px, intrinsics, options);
 }
 
+RoadTracks road_plane_tracks(const std::vector<cv::Mat>& frames,
+                             const core::CameraIntrinsics& intrinsics,
+                             const RoadPlaneMotionOptions& options) {
+  RoadTracks tracks;
+  std::vector<cv::Mat> greys;
+  greys.reserve(frames.size());
+  for (const cv::Mat& image : frames) {
+    if (image.empty() || image.cols != intrinsics.width || image.rows != intrinsics.height) {
+      return tracks;
+    }
+    greys.push_back(grey_8bit(image));
+  }
+  if (greys.size() >= 2) {
+    track_road_points(greys, intrinsics, options, tracks.oldest_px, tracks.current_px);
+  }
+  return tracks;
+}
+
 SequenceEstimator make_road_plane_motion_estimator(const RoadPlaneMotionOptions& options) {
   options.Check();
   return [options](const std::vector<cv::Mat>& frames, const core::CameraIntrinsics& intrinsics) {

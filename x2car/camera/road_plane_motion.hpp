@@ -96,6 +96,18 @@ FrameEstimate estimate_road_plane_motion(const std::vector<cv::Mat>& frames,
                                          const core::CameraIntrinsics& intrinsics,
                                          const RoadPlaneMotionOptions& options = {});
 
+// Step 1 alone (with its second tracking when `prewarp`): the tracks estimate_road_plane_motion
+// fits, in distorted pixels of the oldest frame and of the current one, as many of each; none when
+// a frame is empty or of another size than the intrinsics'. For studies of the tracker
+// (bench/camera_track_study.cpp).
+struct RoadTracks {
+  std::vector<Eigen::Vector2d> oldest_px;
+  std::vector<Eigen::Vector2d> current_px;
+};
+RoadTracks road_plane_tracks(const std::vector<cv::Mat>& frames,
+                             const core::CameraIntrinsics& intrinsics,
+                             const RoadPlaneMotionOptions& options = {});
+
 // Steps 2-5 on tracks already made: `previous_px` (in the oldest frame) and `current_px` are
 // distorted pixels of the same road points (as many of each).
 FrameEstimate road_plane_from_tracks(const std::vector<Eigen::Vector2d>& previous_px,
