@@ -344,11 +344,15 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
   result.pitch = estimate.angles.pitch;
   result.yaw = estimate.angles.yaw;
   result.roll_std = estimate.standard_error.roll;
-  result.support["road_plane_windows"] = static_cast<std::int64_t>(estimate.road_plane_windows);
-  result.support["road_plane_frames"] = static_cast<std::int64_t>(estimate.road_plane_frames);
-  const bool roll_from_road_plane = estimate.road_plane_windows == estimate.windows ||
-                                    (!options.estimator && options.method == CameraMethod::kMotion);
-  if (!options.estimator && options.method == CameraMethod::kAuto && roll_from_road_plane) {
+  const bool is_auto = !options.estimator && options.method == CameraMethod::kAuto;
+  const bool roll_from_road_plane =
+      (!options.estimator && options.method == CameraMethod::kMotion) ||
+      (is_auto && estimate.road_plane_windows == estimate.windows);
+  if (is_auto) {
+    result.support["road_plane_windows"] = static_cast<std::int64_t>(estimate.road_plane_windows);
+    result.support["road_plane_frames"] = static_cast<std::int64_t>(estimate.road_plane_frames);
+  }
+  if (is_auto && roll_from_road_plane) {
     result.reason = fmt::format(
         "roll from the road plane's horizon (its motion between frames), the mean of {} frames "
         "in {} steady windows",
@@ -363,6 +367,10 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
         "roll from gravity's horizon: it carries the road's crossfall under the "
         "windows, and its standard error includes {:.2g} deg for it",
         deg_from_rad(options.gravity_horizon_roll_floor));
+    if (is_auto) {
+      result.reason += fmt::format(" (the road plane's roll in {} of the {} windows)",
+                                   estimate.road_plane_windows, estimate.windows);
+    }
   }
   result.pitch_std = estimate.standard_error.pitch;
   if (frames.motion.empty()) {
