@@ -24,6 +24,7 @@ void RoadPlaneMotionOptions::Check() const {
   check.in_range("road_region_depression", road_region_depression, -kPi / 4.0, kPi / 4.0);
   check.at_least("tracking_window_px", tracking_window_px, 5);
   check.in_range("pyramid_levels", pyramid_levels, 0, 8);
+  check.non_negative("max_lateral_over_height", max_lateral_over_height);
   check.positive("max_forward_backward_px", max_forward_backward_px);
   check.positive("ransac_threshold_px", ransac_threshold_px);
   check.at_least("min_inliers", min_inliers, 8);
@@ -132,6 +133,20 @@ void track_road_points(const std::vector<cv::Mat>& greys, const core::CameraIntr
   const int top = std::clamp(static_cast<int>(std::ceil(top_row)), 0, oldest.rows - 1);
   cv::Mat mask = cv::Mat::zeros(oldest.size(), CV_8U);
   mask.rowRange(top, oldest.rows).setTo(255);
+  if (options.max_lateral_over_height > 0.0) {
+    // For a level camera a road point y to the side, h below and Z ahead is imaged at
+    // u - cx = fx y / Z, v - cy = fy h / Z: |u - cx| / (v - cy) = (fx / fy) |y| / h.
+    for (int v = top; v < oldest.rows; ++v) {
+      const double half_px =
+          options.max_lateral_over_height * (v - intrinsics.cy) * intrinsics.fx / intrinsics.fy;
+      const int first =
+          std::clamp(static_cast<int>(std::ceil(intrinsics.cx - half_px)), 0, oldest.cols);
+      const int last =
+          std::clamp(static_cast<int>(std::floor(intrinsics.cx + half_px)) + 1, first, oldest.cols);
+      mask.row(v).colRange(0, first).setTo(0);
+      mask.row(v).colRange(last, oldest.cols).setTo(0);
+    }
+  }
   std::vector<cv::Point2f> corners;
   cv::goodFeaturesToTrack(oldest, corners, options.max_features, options.feature_quality,
                           options.min_feature_distance_px, mask);
