@@ -8,7 +8,7 @@
 //   - the road plane's horizon against the labels' (median, median absolute deviation [deg]) from
 //     the tracks, tracked once and again through the homography (RoadPlaneMotionOptions::prewarp),
 //     and from the corners' true positions (what perfect tracks would give).
-//   x2car_camera_track_study SCENARIO SEED DURATION_S DRIVE
+//   x2car_camera_track_study SCENARIO SEED DURATION_S DRIVE [MAX_LATERAL_OVER_HEIGHT]
 // SCENARIO, SEED and DURATION_S must be those the drive was simulated with (the world is made again
 // from them). Movers are left out of the rays: corners on traffic count as errors.
 #include <fmt/format.h>
@@ -57,8 +57,10 @@ struct TrackErrors {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 5) {
-    fmt::print(stderr, "usage: x2car_camera_track_study SCENARIO SEED DURATION_S DRIVE\n");
+  if (argc != 5 && argc != 6) {
+    fmt::print(stderr,
+               "usage: x2car_camera_track_study SCENARIO SEED DURATION_S DRIVE "
+               "[MAX_LATERAL_OVER_HEIGHT]\n");
     return 2;
   }
   sim::SimulationOptions options;
@@ -67,6 +69,8 @@ int main(int argc, char** argv) {
   options.duration_s = std::atof(argv[3]);
   options.sensors = {"ins", "camera"};
   const std::string drive = argv[4];
+  camera::RoadPlaneMotionOptions motion_defaults;
+  if (argc == 6) motion_defaults.max_lateral_over_height = std::atof(argv[5]);
   const sim::Simulation simulation = sim::simulate(options);
   const core::CameraIntrinsics& intrinsics = *simulation.camera;
   const Eigen::Isometry3d vehicle_from_camera =
@@ -93,7 +97,7 @@ int main(int argc, char** argv) {
     const Eigen::Isometry3d pose1 = camera.world_from_camera_optical(time1);
     const double road_horizon = camera::horizon_angle(label.road_horizon->line);
     for (const bool prewarp : {false, true}) {
-      camera::RoadPlaneMotionOptions motion;
+      camera::RoadPlaneMotionOptions motion = motion_defaults;
       motion.prewarp = prewarp;
       const camera::RoadTracks tracks = camera::road_plane_tracks(frames, intrinsics, motion);
       std::vector<Eigen::Vector3f> directions;
@@ -104,7 +108,7 @@ int main(int argc, char** argv) {
       }
       std::vector<sim::SurfaceHit> hits(directions.size());
       scene.trace_surfaces(pose0.translation(), directions, 300.0f, nullptr, hits);
-      camera::RoadTracks true_tracks;
+      camera::RoadTracks true_tracks, road_only_tracks;
       for (std::size_t i = 0; i < hits.size(); ++i) {
         if (!std::isfinite(hits[i].range)) continue;
         const Eigen::Vector3d point =
@@ -115,10 +119,18 @@ int main(int argc, char** argv) {
         true_tracks.current_px.push_back(truth);
         const Eigen::Vector2d error = tracks.current_px[i] - truth;
         const Eigen::Vector2d flow = truth - tracks.oldest_px[i];
-        const std::string surface = hits[i].surface == sim::Surface::kAsphalt     ? "asphalt"
-                                    : hits[i].surface == sim::Surface::kLanePaint ? "paint"
-                                                                                  : "other";
+        static constexpr const char* kSurfaceNames[] = {
+            "asphalt", "paint", "curb",  "sidewalk", "grass",   "facade",  "metal",
+            "sign",    "bark",  "leaves", "car",     "glass",   "tyre",    "clothing"};
+        const auto surface_index = static_cast<std::size_t>(hits[i].surface);
+        const std::string surface =
+            surface_index < std::size(kSurfaceNames) ? kSurfaceNames[surface_index] : "other";
         const std::string side = tracks.oldest_px[i].x() < intrinsics.cx ? "left" : "right";
+        if (hits[i].surface == sim::Surface::kAsphalt ||
+            hits[i].surface == sim::Surface::kLanePaint) {
+          road_only_tracks.oldest_px.push_back(tracks.oldest_px[i]);
+          road_only_tracks.current_px.push_back(tracks.current_px[i]);
+        }
         for (const std::string& key : {surface, surface + " " + side}) {
           TrackErrors& bucket = errors[(prewarp ? "again  " : "once   ") + key];
           bucket.size_px.push_back(error.norm());
@@ -137,6 +149,9 @@ int main(int argc, char** argv) {
       if (prewarp) {
         if (const auto error = horizon_error(true_tracks)) {
           horizon_errors_deg["true positions"].push_back(*error);
+        }
+        if (const auto error = horizon_error(road_only_tracks)) {
+          horizon_errors_deg["road corners"].push_back(*error);
         }
       }
     }

@@ -58,9 +58,11 @@ struct RoadPlaneMotionOptions {
   double road_region_depression = rad_from_deg(3.0);
   // ... and only where a level camera sees the road at most this many times its height to either
   // side (a wedge below the principal point; 0: the whole width): the car's lane and a little
-  // beyond (2 x 1.4 m). Kerbs, sidewalks and verges are other planes, and a homography fitted to
-  // road and sidewalk at once tilts: with perfect tracks, +0.5 deg of roll on rendered urban 302.
-  double max_lateral_over_height = 2.0;
+  // beyond (1.5 x 1.4 m; a lane is 3-3.75 m wide). Kerbs, sidewalks and verges are other planes,
+  // and a homography fitted to road and sidewalk at once tilts: with perfect tracks, +0.5 deg of
+  // roll on rendered urban 302; with tracked corners and a kerb at the lane's edge, +0.27 deg at
+  // 2 heights on urban 303.
+  double max_lateral_over_height = 1.5;
   // Lucas-Kanade window [px] and pyramid levels (a level halves the image; the flow near the
   // image's bottom edge reaches tens of pixels per frame).
   int tracking_window_px = 21;
