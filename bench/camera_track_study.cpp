@@ -120,8 +120,8 @@ int main(int argc, char** argv) {
         const Eigen::Vector2d error = tracks.current_px[i] - truth;
         const Eigen::Vector2d flow = truth - tracks.oldest_px[i];
         static constexpr const char* kSurfaceNames[] = {
-            "asphalt", "paint", "curb",  "sidewalk", "grass",   "facade",  "metal",
-            "sign",    "bark",  "leaves", "car",     "glass",   "tyre",    "clothing"};
+            "asphalt", "paint", "curb",   "sidewalk", "grass", "facade", "metal",
+            "sign",    "bark",  "leaves", "car",      "glass", "tyre",   "clothing"};
         const auto surface_index = static_cast<std::size_t>(hits[i].surface);
         const std::string surface =
             surface_index < std::size(kSurfaceNames) ? kSurfaceNames[surface_index] : "other";
