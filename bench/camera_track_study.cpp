@@ -4,11 +4,14 @@
 // and projected into the second's: its true position. Printed, over the straight frames at 3 m/s
 // or more:
 //   - the tracks' error (median |error|, median along the true flow, share over 1 px) by what the
-//     corner lies on (asphalt, paint, other) and by side (left or right of the principal point);
+//     corner lies on (asphalt, paint, curb, sidewalk, grass, ...) and by side (left or right of
+//     the principal point);
 //   - the road plane's horizon against the labels' (median, median absolute deviation [deg]) from
 //     the tracks, tracked once and again through the homography (RoadPlaneMotionOptions::prewarp),
-//     and from the corners' true positions (what perfect tracks would give).
+//     from those of the second tracking that lie on asphalt or paint (road corners), and from the
+//     corners' true positions (what perfect tracks would give).
 //   x2car_camera_track_study SCENARIO SEED DURATION_S DRIVE [MAX_LATERAL_OVER_HEIGHT]
+// MAX_LATERAL_OVER_HEIGHT replaces RoadPlaneMotionOptions::max_lateral_over_height (the wedge).
 // SCENARIO, SEED and DURATION_S must be those the drive was simulated with (the world is made again
 // from them). Movers are left out of the rays: corners on traffic count as errors.
 #include <fmt/format.h>
