@@ -122,12 +122,13 @@ int main(int argc, char** argv) {
         true_tracks.current_px.push_back(truth);
         const Eigen::Vector2d error = tracks.current_px[i] - truth;
         const Eigen::Vector2d flow = truth - tracks.oldest_px[i];
+        // In sim::Surface's order.
         static constexpr const char* kSurfaceNames[] = {
             "asphalt", "paint", "curb",   "sidewalk", "grass", "facade", "metal",
             "sign",    "bark",  "leaves", "car",      "glass", "tyre",   "clothing"};
-        const auto surface_index = static_cast<std::size_t>(hits[i].surface);
-        const std::string surface =
-            surface_index < std::size(kSurfaceNames) ? kSurfaceNames[surface_index] : "other";
+        static_assert(std::size(kSurfaceNames) ==
+                      static_cast<std::size_t>(sim::Surface::kClothing) + 1);
+        const std::string surface = kSurfaceNames[static_cast<std::size_t>(hits[i].surface)];
         const std::string side = tracks.oldest_px[i].x() < intrinsics.cx ? "left" : "right";
         if (hits[i].surface == sim::Surface::kAsphalt ||
             hits[i].surface == sim::Surface::kLanePaint) {
