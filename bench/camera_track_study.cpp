@@ -84,6 +84,7 @@ int main(int argc, char** argv) {
   const Eigen::Matrix3d camera_matrix = intrinsics.camera_matrix();
   std::map<std::string, TrackErrors> errors;
   std::map<std::string, std::vector<double>> horizon_errors_deg;
+  std::map<std::string, std::vector<double>> travel_v_errors_px;
   for (std::size_t index = 1; index < camera.frame_count(); ++index) {
     const double time0 = camera.frame_time(index - 1);
     const double time1 = camera.frame_time(index);
@@ -141,10 +142,19 @@ int main(int argc, char** argv) {
           bucket.along_flow_px.push_back(flow.norm() > 0.1 ? error.dot(flow.normalized()) : 0.0);
         }
       }
+      const auto key_of = [&](const camera::RoadTracks& some) -> std::string {
+        if (&some == &true_tracks) return "true positions";
+        if (&some == &road_only_tracks) return "road corners";
+        return prewarp ? "tracked again" : "tracked once";
+      };
       const auto horizon_error = [&](const camera::RoadTracks& some) -> std::optional<double> {
         const camera::FrameEstimate estimate =
             camera::road_plane_from_tracks(some.oldest_px, some.current_px, intrinsics, motion);
         if (!estimate.usable()) return std::nullopt;
+        if (label.road_vp) {
+          travel_v_errors_px[key_of(some)].push_back(estimate.road_vanishing_point_px.y() -
+                                                     label.road_vp->undistorted_px.y());
+        }
         return deg_from_rad(camera::horizon_angle(estimate.horizon_line) - road_horizon);
       };
       if (const auto error = horizon_error(tracks)) {
@@ -173,6 +183,11 @@ int main(int argc, char** argv) {
   }
   fmt::print("road plane's horizon against the labels' [deg]\n");
   for (const auto& [key, values] : horizon_errors_deg) {
+    fmt::print("  {:<15} {:4} frames  median {:+.3f}  median absolute deviation {:.3f}\n", key,
+               values.size(), median(values), median_absolute_deviation(values));
+  }
+  fmt::print("travel's vanishing point v against the labels' road VP [px]\n");
+  for (const auto& [key, values] : travel_v_errors_px) {
     fmt::print("  {:<15} {:4} frames  median {:+.3f}  median absolute deviation {:.3f}\n", key,
                values.size(), median(values), median_absolute_deviation(values));
   }

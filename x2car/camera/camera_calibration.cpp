@@ -37,7 +37,7 @@ struct FrameRecord {
   bool gated = false;  // the motion gate skipped it before decoding
   FrameEstimate estimate;
   std::optional<EulerAngles> angles;      // from a usable estimate, unless degenerate
-  std::optional<double> road_plane_roll;  // auto: the roll with the road plane's horizon
+  std::optional<RoadPlaneAngles> road_plane;  // auto: the road plane's roll and travel's pitch
   std::optional<FrameRejection> road_plane_rejection;  // auto: why the frame pair gave none
   std::optional<std::string> read_error;               // skip_bad_images caught an InputError
   std::exception_ptr error;                            // anything else: ends the run
@@ -129,10 +129,14 @@ FrameEstimate estimate_sequence(const CameraFrameSource& frames,
 }
 
 // auto: the lines' estimate (their vanishing point, gravity's horizon: steady, for the window's
-// test) with the road plane's horizon beside it when the pair gave one (averaged for the roll).
+// test) with the road plane's horizon and the travel's vanishing point beside it when the pair
+// gave them (averaged for the roll and the pitch).
 FrameEstimate combine(const FrameEstimate& lines, const FrameEstimate& road) {
   FrameEstimate combined = lines;
-  if (lines.usable() && road.usable()) combined.road_plane_horizon_line = road.horizon_line;
+  if (lines.usable() && road.usable()) {
+    combined.road_plane_horizon_line = road.horizon_line;
+    combined.road_plane_vanishing_point_px = road.road_vanishing_point_px;
+  }
   return combined;
 }
 
@@ -171,11 +175,17 @@ void estimate_frame(const CameraFrameSource& frames, const core::CameraIntrinsic
   record.angles =
       vehicle_from_camera_angles(record.estimate.road_vanishing_point_px,
                                  record.estimate.horizon_line, intrinsics.camera_matrix());
-  if (record.angles && record.estimate.road_plane_horizon_line) {
-    if (const std::optional<EulerAngles> road_plane = vehicle_from_camera_angles(
-            record.estimate.road_vanishing_point_px, *record.estimate.road_plane_horizon_line,
-            intrinsics.camera_matrix())) {
-      record.road_plane_roll = road_plane->roll;
+  const FrameEstimate& estimate = record.estimate;
+  if (record.angles && estimate.road_plane_horizon_line && estimate.road_plane_vanishing_point_px) {
+    // The roll with the lines' vanishing point (the road plane's horizon is orthogonalised against
+    // it, as the steady angles' is), the pitch of the travel's direction.
+    const Eigen::Matrix3d camera_matrix = intrinsics.camera_matrix();
+    const std::optional<EulerAngles> with_lines = vehicle_from_camera_angles(
+        estimate.road_vanishing_point_px, *estimate.road_plane_horizon_line, camera_matrix);
+    const std::optional<EulerAngles> with_travel = vehicle_from_camera_angles(
+        *estimate.road_plane_vanishing_point_px, *estimate.road_plane_horizon_line, camera_matrix);
+    if (with_lines && with_travel) {
+      record.road_plane = RoadPlaneAngles{with_lines->roll, with_travel->pitch};
     }
   }
 }
@@ -226,7 +236,7 @@ std::vector<FrameRecord> run_frames(const CameraFrameSource& frames,
                   return;
                 }
                 verdicts[index] = filter.add(frames.times[index], record.angles,
-                                             motion_at(frames, index), record.road_plane_roll);
+                                             motion_at(frames, index), record.road_plane);
                 if (options.progress) options.progress(index + 1, count);
               }));
   if (first_error) std::rethrow_exception(first_error);
@@ -263,6 +273,7 @@ void write_series(const CameraFrameSource& frames, const std::vector<FrameRecord
   Series yaw{"frame_yaw", "rad", {}, {}};
   Series quality{"frame_quality", "", {}, {}};
   Series road_plane_roll{"frame_road_plane_roll", "rad", {}, {}};
+  Series road_plane_pitch{"frame_road_plane_pitch", "rad", {}, {}};
   Series in_window{"in_window", "", frames.times, std::vector<double>(frames.times.size(), 0.0)};
   for (const FilterWindow& window : filter.windows()) {
     for (std::size_t i = window.first_frame; i <= window.last_frame; ++i) in_window.value[i] = 1.0;
@@ -282,12 +293,18 @@ void write_series(const CameraFrameSource& frames, const std::vector<FrameRecord
     push(pitch, record.angles->pitch);
     push(yaw, record.angles->yaw);
     push(quality, record.estimate.quality);
-    if (record.road_plane_roll) push(road_plane_roll, *record.road_plane_roll);
+    if (record.road_plane) {
+      push(road_plane_roll, record.road_plane->roll);
+      push(road_plane_pitch, record.road_plane->pitch);
+    }
   }
   for (Series* series : {&vp_u, &vp_v, &horizon, &roll, &pitch, &yaw, &quality, &in_window}) {
     result.series.push_back(std::move(*series));
   }
-  if (!road_plane_roll.time.empty()) result.series.push_back(std::move(road_plane_roll));
+  if (!road_plane_roll.time.empty()) {
+    result.series.push_back(std::move(road_plane_roll));
+    result.series.push_back(std::move(road_plane_pitch));
+  }
 }
 
 // Largest minus smallest window mean of each angle [rad].
@@ -354,8 +371,8 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
   }
   if (is_auto && roll_from_road_plane) {
     result.reason = fmt::format(
-        "roll from the road plane's horizon (its motion between frames), the mean of {} frames "
-        "in {} steady windows",
+        "roll from the road plane's horizon and pitch from the car's travel (the road's motion "
+        "between frames), the means of {} frames in {} steady windows",
         estimate.road_plane_frames, estimate.road_plane_windows);
   }
   if (!options.estimator && options.method != CameraMethod::kMotion && !roll_from_road_plane) {
@@ -368,7 +385,7 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
         "windows, and its standard error includes {:.2g} deg for it",
         deg_from_rad(options.gravity_horizon_roll_floor));
     if (is_auto) {
-      result.reason += fmt::format(" (the road plane's roll in {} of the {} windows)",
+      result.reason += fmt::format(" (the road plane's roll and pitch in {} of the {} windows)",
                                    estimate.road_plane_windows, estimate.windows);
     }
   }

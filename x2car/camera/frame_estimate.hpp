@@ -72,11 +72,13 @@ struct FrameEstimate {
   // Horizon line a u + b v + c = 0 in undistorted pixels, a^2 + b^2 = 1, b > 0.
   Eigen::Vector3d horizon_line = Eigen::Vector3d(0.0, 1.0, 0.0);
   HorizonSource horizon_source = HorizonSource::kNone;
-  // auto: the road plane's horizon from the motion estimator, when the frame pair gave one, beside
-  // the lines' (gravity's) horizon above. Its roll is free of the road's crossfall but scatters by
-  // ~0.3 deg a frame, so it is averaged over the steady windows rather than tested
-  // (temporal_filter.hpp).
+  // auto: the road plane's horizon and the vanishing point of the car's travel between the two
+  // frames, from the motion estimator when the frame pair gave them, beside the lines' vanishing
+  // point and (gravity's) horizon above. Their roll is free of the road's crossfall and their
+  // pitch of the grade changing ahead of the car, but each scatters by ~0.3 deg a frame, so they
+  // are averaged over the steady windows rather than tested (temporal_filter.hpp).
   std::optional<Eigen::Vector3d> road_plane_horizon_line;
+  std::optional<Eigen::Vector2d> road_plane_vanishing_point_px;  // [undistorted px]
 
   // How much of the image's line evidence agrees, in [0, 1]: the share of the segments' length
   // that supports the two vanishing points used. A heuristic for plots and gating, not a variance.

@@ -49,6 +49,21 @@ double largest(const EulerAngles& angles) {
   return std::max({angles.roll, angles.pitch, angles.yaw});
 }
 
+double median_of(std::vector<double> values) {
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+// |value - median| beyond which a value is an outlier: `clip` scaled median absolute deviations
+// (1.4826: the median absolute deviation of a normal distribution in units of its std).
+double clip_limit(const std::vector<double>& values, double median, double clip) {
+  std::vector<double> deviations(values.size());
+  std::transform(values.begin(), values.end(), deviations.begin(),
+                 [median](double value) { return std::abs(value - median); });
+  return clip * 1.4826 * median_of(std::move(deviations));
+}
+
 }  // namespace
 
 const char* to_string(FrameVerdict verdict) { return enum_to_string(kFrameVerdictNames, verdict); }
@@ -95,49 +110,59 @@ bool TemporalFilter::window_passes(EulerAngles& mean, EulerAngles& std) const {
   return largest(std) < options_.max_window_std;
 }
 
-// The window's roll from its frames' road-plane rolls, when enough of them have one: their
-// clipped mean, and its standard error as the window's roll spread.
-void TemporalFilter::take_road_plane_roll(FilterWindow& window) const {
+// The window's roll and pitch from its frames' road-plane angles, when enough of them have them:
+// their clipped means, and the means' standard errors as the window's spreads.
+void TemporalFilter::take_road_plane_angles(FilterWindow& window) const {
   std::vector<double> rolls;
+  std::vector<double> pitches;
   rolls.reserve(window_.size());
-  const double reference = window.mean.roll;
+  pitches.reserve(window_.size());
+  const EulerAngles reference = window.mean;
   for (const Buffered& frame : window_) {
-    if (frame.road_plane_roll) rolls.push_back(angle_difference(*frame.road_plane_roll, reference));
+    if (!frame.road_plane) continue;
+    rolls.push_back(angle_difference(frame.road_plane->roll, reference.roll));
+    pitches.push_back(angle_difference(frame.road_plane->pitch, reference.pitch));
   }
   const auto enough = static_cast<std::size_t>(options_.min_road_plane_frames);
   if (rolls.size() < enough) return;
-  const auto median_of = [](std::vector<double> values) {
-    const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-    std::nth_element(values.begin(), middle, values.end());
-    return *middle;
-  };
-  const double median = median_of(rolls);
-  std::vector<double> deviations(rolls.size());
-  std::transform(rolls.begin(), rolls.end(), deviations.begin(),
-                 [median](double roll) { return std::abs(roll - median); });
-  // 1.4826: the median absolute deviation of a normal distribution in units of its std.
-  const double limit = options_.road_plane_clip * 1.4826 * median_of(deviations);
-  double sum = 0.0;
-  double sum_squares = 0.0;
+  const double roll_median = median_of(rolls);
+  const double pitch_median = median_of(pitches);
+  const double roll_limit = clip_limit(rolls, roll_median, options_.road_plane_clip);
+  const double pitch_limit = clip_limit(pitches, pitch_median, options_.road_plane_clip);
+  std::array<double, 2> sum{};
+  std::array<double, 2> sum_squares{};
   std::size_t kept = 0;
-  for (const double roll : rolls) {
-    if (std::abs(roll - median) > limit) continue;
-    sum += roll;
-    sum_squares += roll * roll;
+  for (std::size_t i = 0; i < rolls.size(); ++i) {
+    if (std::abs(rolls[i] - roll_median) > roll_limit ||
+        std::abs(pitches[i] - pitch_median) > pitch_limit) {
+      continue;
+    }
+    const std::array<double, 2> values{rolls[i], pitches[i]};
+    for (std::size_t k = 0; k < 2; ++k) {
+      sum[k] += values[k];
+      sum_squares[k] += values[k] * values[k];
+    }
     ++kept;
   }
   if (kept < enough) return;
   const double n = static_cast<double>(kept);
-  const double mean = sum / n;
-  const double std = std::sqrt(std::max(0.0, (sum_squares - n * mean * mean) / (n - 1.0)));
-  window.mean.roll = wrap_angle(reference + mean);
-  window.std.roll = std / std::sqrt(0.5 * n);
+  const auto mean_and_error = [n](double total, double total_squares) {
+    const double mean = total / n;
+    const double std = std::sqrt(std::max(0.0, (total_squares - n * mean * mean) / (n - 1.0)));
+    return std::pair{mean, std / std::sqrt(0.5 * n)};
+  };
+  const auto [roll, roll_error] = mean_and_error(sum[0], sum_squares[0]);
+  const auto [pitch, pitch_error] = mean_and_error(sum[1], sum_squares[1]);
+  window.mean.roll = wrap_angle(reference.roll + roll);
+  window.std.roll = roll_error;
+  window.mean.pitch = wrap_angle(reference.pitch + pitch);
+  window.std.pitch = pitch_error;
   window.road_plane_frames = kept;
 }
 
 FrameVerdict TemporalFilter::add(double time_s, const std::optional<EulerAngles>& angles,
                                  const std::optional<VehicleMotion>& motion,
-                                 std::optional<double> road_plane_roll) {
+                                 std::optional<RoadPlaneAngles> road_plane) {
   if (!std::isfinite(time_s) || (last_time_ && time_s <= *last_time_)) {
     reject_argument(
         "TemporalFilter::add: frame time {} s is not finite or not after the "
@@ -163,8 +188,10 @@ FrameVerdict TemporalFilter::add(double time_s, const std::optional<EulerAngles>
   if (window_.size() == static_cast<std::size_t>(options_.window_frames)) {
     window_.erase(window_.begin());
   }
-  if (road_plane_roll && !std::isfinite(*road_plane_roll)) road_plane_roll.reset();
-  window_.push_back({frame, time_s, *angles, road_plane_roll});
+  if (road_plane && (!std::isfinite(road_plane->roll) || !std::isfinite(road_plane->pitch))) {
+    road_plane.reset();
+  }
+  window_.push_back({frame, time_s, *angles, road_plane});
   if (window_.size() < static_cast<std::size_t>(options_.window_frames)) return verdict;
 
   FilterWindow passed;
@@ -178,7 +205,7 @@ FrameVerdict TemporalFilter::add(double time_s, const std::optional<EulerAngles>
   passed.last_frame = window_.back().frame;
   passed.start_time = window_.front().time;
   passed.end_time = window_.back().time;
-  take_road_plane_roll(passed);
+  take_road_plane_angles(passed);
   windows_.push_back(passed);
   window_.clear();  // the next window starts after this one: windows share no frames
   return FrameVerdict::kWindowPassed;

@@ -19,13 +19,15 @@
 //     blocks of block_s over the windows' times, the Student-t factor of their count), never below
 //     the floor: biases no spread shows (the road's camber, the drive's mean heading in its lane,
 //     the load's pitch). With one window, its frames' std stands in for the spread.
-//   - a frame may also bring the roll of the road plane's horizon (auto: the motion estimator's,
-//     free of the road's crossfall but scattered by ~0.3 deg a frame, too much for the window's
-//     test). The window is still judged on the steady angles; when at least
-//     min_road_plane_frames of its frames bring one, its roll is their mean (those beyond
-//     road_plane_clip median absolute deviations from their median left out) and its spread the
-//     mean's standard error (their std over the square root of half their number: consecutive
-//     frame pairs share a frame).
+//   - a frame may also bring the road plane's angles (auto: the motion estimator's): the roll of
+//     its horizon, free of the road's crossfall, and the pitch of the car's travel between the
+//     two frames, free of the road's grade changing ahead of the car (which bends the lines that
+//     make the vanishing point); each scatters by ~0.3 deg a frame, too much for the window's
+//     test. The window is still judged on the steady angles; when at least
+//     min_road_plane_frames of its frames bring them, its roll and pitch are their means (frames
+//     beyond road_plane_clip median absolute deviations from the median in either left out) and
+//     their spreads the means' standard errors (their std over the square root of half their
+//     number: consecutive frame pairs share a frame).
 // Incremental: feed frames in time order with add(), read current() at any time.
 #pragma once
 
@@ -44,6 +46,13 @@ struct VehicleMotion {
   double yaw_rate = 0.0;   // [rad/s]
   // Along the track: the change of the speed per second [m/s^2].
   double acceleration_mps2 = 0.0;
+};
+
+// What the road plane between a frame and the one before says about the car (auto;
+// road_plane_motion.hpp).
+struct RoadPlaneAngles {
+  double roll = 0.0;   // with the road plane's horizon [rad]
+  double pitch = 0.0;  // of the car's travel between the frames [rad]
 };
 
 struct TemporalFilterOptions {
@@ -74,11 +83,13 @@ struct TemporalFilterOptions {
   // driving direction); a driver holds the lane's direction to ~0.05 deg on average; load and
   // grade move the pitch by a few hundredths of a degree.
   EulerAngles standard_error_floor{rad_from_deg(0.1), rad_from_deg(0.05), rad_from_deg(0.05)};
-  // A window's roll is the road plane's when at least this many of its frames bring one (a third
-  // of the paper's window: the mean of 33 frames scattered by 0.3 deg is good to ~0.07 deg).
+  // A window's roll and pitch are the road plane's when at least this many of its frames bring
+  // them (a third of the paper's window: the mean of 33 frames scattered by 0.3 deg is good to
+  // ~0.07 deg).
   int min_road_plane_frames = 33;
-  // Road-plane rolls farther than this many (scaled) median absolute deviations from the window's
-  // median are left out of its mean: a pair whose tracks locked onto a passing car or a shadow.
+  // Frames whose road-plane roll or pitch lies farther than this many (scaled) median absolute
+  // deviations from the window's median are left out of its means: a pair whose tracks locked
+  // onto a passing car or a shadow.
   double road_plane_clip = 3.0;
 
   // Throws std::invalid_argument naming the offending field.
@@ -109,8 +120,10 @@ struct FilterWindow {
   double start_time = 0.0;  // [s]
   double end_time = 0.0;
   EulerAngles mean;  // [rad]
-  EulerAngles std;   // of the frames in it [rad]; the road plane's roll: its mean's standard error
-  // The frames whose road-plane roll made the window's roll (0: the roll is the steady angles').
+  // Of the frames in it [rad]; the road plane's roll and pitch: their means' standard errors.
+  EulerAngles std;
+  // The frames whose road-plane angles made the window's roll and pitch (0: they are the steady
+  // angles').
   std::size_t road_plane_frames = 0;
 };
 
@@ -120,8 +133,8 @@ struct FilterEstimate {
   EulerAngles standard_error;  // [rad], when ok
   std::size_t windows = 0;
   std::size_t frames_in_windows = 0;
-  std::size_t road_plane_windows = 0;  // windows whose roll is the road plane's
-  std::size_t road_plane_frames = 0;   // the frames behind those rolls
+  std::size_t road_plane_windows = 0;  // windows whose roll and pitch are the road plane's
+  std::size_t road_plane_frames = 0;   // the frames behind them
   // Why not ok: "only 43 frames in stable stretches; need 100", or the smallest std reached.
   std::string reason;
 };
@@ -132,12 +145,12 @@ class TemporalFilter {
   explicit TemporalFilter(TemporalFilterOptions options = {});
 
   // One frame, in time order (a time not after the previous one throws std::invalid_argument):
-  // its angles when the estimator gave them, its motion when known, and the roll of the road
-  // plane's horizon when the frame has one (averaged, not tested for steadiness: see above). The
+  // its angles when the estimator gave them, its motion when known, and the road plane's angles
+  // when the frame has them (averaged, not tested for steadiness: see above). The
   // motion gate comes first: a gated frame is kSlow or kTurning whether or not it has angles.
   FrameVerdict add(double time_s, const std::optional<EulerAngles>& angles,
                    const std::optional<VehicleMotion>& motion = std::nullopt,
-                   std::optional<double> road_plane_roll = std::nullopt);
+                   std::optional<RoadPlaneAngles> road_plane = std::nullopt);
 
   // The estimate from the windows so far.
   FilterEstimate current() const;
@@ -153,11 +166,11 @@ class TemporalFilter {
     std::size_t frame;
     double time;
     EulerAngles angles;
-    std::optional<double> road_plane_roll;
+    std::optional<RoadPlaneAngles> road_plane;
   };
   void end_stretch();
   bool window_passes(EulerAngles& mean, EulerAngles& std) const;
-  void take_road_plane_roll(FilterWindow& window) const;
+  void take_road_plane_angles(FilterWindow& window) const;
 
   TemporalFilterOptions options_;
   std::vector<Buffered> window_;  // the current window, oldest first (at most window_frames)

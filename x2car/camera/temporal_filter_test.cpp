@@ -158,49 +158,59 @@ TEST(TemporalFilter, WeighsWindowsByTheirSpread) {
   EXPECT_NEAR(estimate.angles.pitch, (4.0 * 0.010 + 1.0 * 0.020) / 5.0, 1e-12);
 }
 
-TEST(TemporalFilter, AveragesTheRoadPlanesRollOverTheSteadyWindows) {
-  // The steady angles carry gravity's roll, 0.6 deg off the car's (a crossfall); the road plane's
-  // roll is the car's but scatters by 0.3 deg a frame, with a few frames far off. The windows pass
-  // on the steady angles, and their roll is the road plane's, clipped and averaged.
+TEST(TemporalFilter, AveragesTheRoadPlanesRollAndPitchOverTheSteadyWindows) {
+  // The steady angles carry gravity's roll, 0.6 deg off the car's (a crossfall), and the lines'
+  // pitch, 0.25 deg off (the road's grade changing ahead); the road plane's roll and the travel's
+  // pitch are the car's but scatter by 0.3 deg a frame, with a few frames far off. The windows
+  // pass on the steady angles, and their roll and pitch are the road plane's, clipped and averaged.
   TemporalFilter filter;
   NoisyFrames steady(0.0005, 5);
   std::mt19937_64 random(11);
   std::normal_distribution<double> scatter(0.0, rad_from_deg(0.3));
-  const EulerAngles tilted{kTruth.roll + rad_from_deg(0.6), kTruth.pitch, kTruth.yaw};
+  const EulerAngles tilted{kTruth.roll + rad_from_deg(0.6), kTruth.pitch + rad_from_deg(0.25),
+                           kTruth.yaw};
   for (int i = 0; i < 300; ++i) {
-    std::optional<double> road_plane_roll = kTruth.roll + scatter(random);
-    if (i % 3 == 0) road_plane_roll.reset();               // pairs without a road plane
-    if (i % 50 == 7) road_plane_roll = kTruth.roll + 0.2;  // a track on a passing car
-    filter.add(0.1 * i, steady.next(tilted), std::nullopt, road_plane_roll);
+    std::optional<RoadPlaneAngles> road_plane =
+        RoadPlaneAngles{kTruth.roll + scatter(random), kTruth.pitch + scatter(random)};
+    if (i % 3 == 0) road_plane.reset();  // pairs without a road plane
+    // Tracks on a passing car: the roll of one pair, the pitch of another.
+    if (i % 50 == 7) road_plane = RoadPlaneAngles{kTruth.roll + 0.2, kTruth.pitch};
+    if (i % 50 == 8) road_plane = RoadPlaneAngles{kTruth.roll, kTruth.pitch - 0.2};
+    filter.add(0.1 * i, steady.next(tilted), std::nullopt, road_plane);
   }
   ASSERT_EQ(filter.windows().size(), 3U);
   for (const FilterWindow& window : filter.windows()) {
-    EXPECT_GE(window.road_plane_frames, 60U);
-    EXPECT_LE(window.road_plane_frames, 67U);  // the 0.2 rad ones are left out
-    // 0.3 deg over the square root of half of ~65 frames: ~0.053 deg.
+    EXPECT_GE(window.road_plane_frames, 58U);
+    EXPECT_LE(window.road_plane_frames, 66U);  // the 0.2 rad ones are left out
+    // 0.3 deg over the square root of half of ~64 frames: ~0.053 deg.
     EXPECT_NEAR(window.std.roll, rad_from_deg(0.053), rad_from_deg(0.015));
+    EXPECT_NEAR(window.std.pitch, rad_from_deg(0.053), rad_from_deg(0.015));
     EXPECT_NEAR(window.mean.roll, kTruth.roll, 3.0 * window.std.roll);
+    EXPECT_NEAR(window.mean.pitch, kTruth.pitch, 3.0 * window.std.pitch);
   }
   const FilterEstimate estimate = filter.current();
   ASSERT_TRUE(estimate.ok);
   EXPECT_EQ(estimate.road_plane_windows, 3U);
   EXPECT_NEAR(estimate.angles.roll, kTruth.roll, rad_from_deg(0.1));
-  EXPECT_NEAR(estimate.angles.pitch, kTruth.pitch, rad_from_deg(0.01));
+  EXPECT_NEAR(estimate.angles.pitch, kTruth.pitch, rad_from_deg(0.1));
+  EXPECT_NEAR(estimate.angles.yaw, kTruth.yaw, rad_from_deg(0.01));
 }
 
-TEST(TemporalFilter, TooFewRoadPlaneFramesLeaveTheSteadyRoll) {
+TEST(TemporalFilter, TooFewRoadPlaneFramesLeaveTheSteadyRollAndPitch) {
   TemporalFilterOptions options;
   options.min_road_plane_frames = 40;
   TemporalFilter filter(options);
   NoisyFrames steady(0.0005, 5);
   for (int i = 0; i < 100; ++i) {
-    const std::optional<double> road_plane_roll =
-        i % 3 == 0 ? std::optional<double>(kTruth.roll - 0.01) : std::nullopt;  // 34 frames
-    filter.add(0.1 * i, steady.next(), std::nullopt, road_plane_roll);
+    const std::optional<RoadPlaneAngles> road_plane =
+        i % 3 == 0 ? std::optional(RoadPlaneAngles{kTruth.roll - 0.01, kTruth.pitch + 0.01})
+                   : std::nullopt;  // 34 frames
+    filter.add(0.1 * i, steady.next(), std::nullopt, road_plane);
   }
   ASSERT_EQ(filter.windows().size(), 1U);
   EXPECT_EQ(filter.windows()[0].road_plane_frames, 0U);
   EXPECT_NEAR(filter.windows()[0].mean.roll, kTruth.roll, 3e-4);
+  EXPECT_NEAR(filter.windows()[0].mean.pitch, kTruth.pitch, 3e-4);
   EXPECT_EQ(filter.current().road_plane_windows, 0U);
   options.min_road_plane_frames = 1;
   EXPECT_THROW(TemporalFilter{options}, std::invalid_argument);
