@@ -8,8 +8,10 @@
 //     the principal point);
 //   - the road plane's horizon against the labels' (median, median absolute deviation [deg]) from
 //     the tracks, tracked once and again through the homography (RoadPlaneMotionOptions::prewarp),
-//     from those of the second tracking that lie on asphalt or paint (road corners), and from the
-//     corners' true positions (what perfect tracks would give).
+//     from those of the second tracking that lie on asphalt or paint (road corners) or on asphalt
+//     alone, and from the corners' true positions (what perfect tracks would give);
+//   - from the same tracks, the vertical position of the travel's vanishing point against the
+//     labels' road VP [px] (the pitch `auto` averages; docs/methods.md camera §3).
 //   x2car_camera_track_study SCENARIO SEED DURATION_S DRIVE [MAX_LATERAL_OVER_HEIGHT]
 // MAX_LATERAL_OVER_HEIGHT replaces RoadPlaneMotionOptions::max_lateral_over_height (the wedge).
 // SCENARIO, SEED and DURATION_S must be those the drive was simulated with (the world is made again
@@ -112,7 +114,7 @@ int main(int argc, char** argv) {
       }
       std::vector<sim::SurfaceHit> hits(directions.size());
       scene.trace_surfaces(pose0.translation(), directions, 300.0f, nullptr, hits);
-      camera::RoadTracks true_tracks, road_only_tracks;
+      camera::RoadTracks true_tracks, road_only_tracks, asphalt_tracks;
       for (std::size_t i = 0; i < hits.size(); ++i) {
         if (!std::isfinite(hits[i].range)) continue;
         const Eigen::Vector3d point =
@@ -136,6 +138,10 @@ int main(int argc, char** argv) {
           road_only_tracks.oldest_px.push_back(tracks.oldest_px[i]);
           road_only_tracks.current_px.push_back(tracks.current_px[i]);
         }
+        if (hits[i].surface == sim::Surface::kAsphalt) {
+          asphalt_tracks.oldest_px.push_back(tracks.oldest_px[i]);
+          asphalt_tracks.current_px.push_back(tracks.current_px[i]);
+        }
         for (const std::string& key : {surface, surface + " " + side}) {
           TrackErrors& bucket = errors[(prewarp ? "again  " : "once   ") + key];
           bucket.size_px.push_back(error.norm());
@@ -145,6 +151,7 @@ int main(int argc, char** argv) {
       const auto key_of = [&](const camera::RoadTracks& some) -> std::string {
         if (&some == &true_tracks) return "true positions";
         if (&some == &road_only_tracks) return "road corners";
+        if (&some == &asphalt_tracks) return "asphalt corners";
         return prewarp ? "tracked again" : "tracked once";
       };
       const auto horizon_error = [&](const camera::RoadTracks& some) -> std::optional<double> {
@@ -166,6 +173,9 @@ int main(int argc, char** argv) {
         }
         if (const auto error = horizon_error(road_only_tracks)) {
           horizon_errors_deg["road corners"].push_back(*error);
+        }
+        if (const auto error = horizon_error(asphalt_tracks)) {
+          horizon_errors_deg["asphalt corners"].push_back(*error);
         }
       }
     }
