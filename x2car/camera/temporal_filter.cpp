@@ -129,30 +129,33 @@ void TemporalFilter::take_road_plane_angles(FilterWindow& window) const {
   const double pitch_median = median_of(pitches);
   const double roll_limit = clip_limit(rolls, roll_median, options_.road_plane_clip);
   const double pitch_limit = clip_limit(pitches, pitch_median, options_.road_plane_clip);
-  std::array<double, 2> sum{};
-  std::array<double, 2> sum_squares{};
-  std::size_t kept = 0;
+  std::vector<double> kept_rolls;
+  std::vector<double> kept_pitches;
   for (std::size_t i = 0; i < rolls.size(); ++i) {
-    if (std::abs(rolls[i] - roll_median) > roll_limit ||
-        std::abs(pitches[i] - pitch_median) > pitch_limit) {
-      continue;
+    if (std::abs(rolls[i] - roll_median) <= roll_limit &&
+        std::abs(pitches[i] - pitch_median) <= pitch_limit) {
+      kept_rolls.push_back(rolls[i]);
+      kept_pitches.push_back(pitches[i]);
     }
-    const std::array<double, 2> values{rolls[i], pitches[i]};
-    for (std::size_t k = 0; k < 2; ++k) {
-      sum[k] += values[k];
-      sum_squares[k] += values[k] * values[k];
-    }
-    ++kept;
   }
+  const std::size_t kept = kept_rolls.size();
   if (kept < enough) return;
-  const double n = static_cast<double>(kept);
-  const auto mean_and_error = [n](double total, double total_squares) {
-    const double mean = total / n;
-    const double std = std::sqrt(std::max(0.0, (total_squares - n * mean * mean) / (n - 1.0)));
+  // The mean, and its standard error: the std over the square root of half the count, as
+  // consecutive frame pairs share a frame.
+  const auto mean_and_error = [](const std::vector<double>& values) {
+    const double n = static_cast<double>(values.size());
+    double sum = 0.0;
+    double sum_squares = 0.0;
+    for (const double value : values) {
+      sum += value;
+      sum_squares += value * value;
+    }
+    const double mean = sum / n;
+    const double std = std::sqrt(std::max(0.0, (sum_squares - n * mean * mean) / (n - 1.0)));
     return std::pair{mean, std / std::sqrt(0.5 * n)};
   };
-  const auto [roll, roll_error] = mean_and_error(sum[0], sum_squares[0]);
-  const auto [pitch, pitch_error] = mean_and_error(sum[1], sum_squares[1]);
+  const auto [roll, roll_error] = mean_and_error(kept_rolls);
+  const auto [pitch, pitch_error] = mean_and_error(kept_pitches);
   window.mean.roll = wrap_angle(reference.roll + roll);
   window.std.roll = roll_error;
   window.mean.pitch = wrap_angle(reference.pitch + pitch);
