@@ -36,7 +36,7 @@ constexpr const char* kSensor = "camera";
 struct FrameRecord {
   bool gated = false;  // the motion gate skipped it before decoding
   FrameEstimate estimate;
-  std::optional<EulerAngles> angles;      // from a usable estimate, unless degenerate
+  std::optional<EulerAngles> angles;          // from a usable estimate, unless degenerate
   std::optional<RoadPlaneAngles> road_plane;  // auto: the road plane's roll and travel's pitch
   std::optional<FrameRejection> road_plane_rejection;  // auto: why the frame pair gave none
   std::optional<std::string> read_error;               // skip_bad_images caught an InputError
