@@ -229,9 +229,9 @@ RunCommand setup_calibrate_camera_command(CLI::App& command) {
   command
       .add_option("--estimator", arguments->estimator,
                   "Per-frame estimator: geometric (lines' vanishing point, gravity's horizon), "
-                  "motion (the car's travel and the road plane between frames), auto (pitch and "
-                  "yaw from the lines, roll from the road plane), learned (the paper's network, "
-                  "--model)")
+                  "motion (the car's travel and the road plane between frames), auto (yaw and the "
+                  "steady windows from the lines, roll and pitch from the road plane and the "
+                  "travel), learned (the paper's network, --model)")
       ->check(CLI::IsMember([] {
         std::vector<std::string> names = enum_names(camera::kCameraMethodNames);
         names.emplace_back(kLearnedEstimator);

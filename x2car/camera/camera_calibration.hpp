@@ -37,9 +37,10 @@ enum class CameraMethod {
                //   (gravity's) horizon, from each image alone
   kMotion,     // "motion": the car's travel (pitch, yaw) and the road plane (roll) from each frame
                //   and the one before it (road_plane_motion.hpp)
-  kAuto,       // "auto": the lines' angles decide which windows are steady and give pitch and
-               //   yaw (the more precise); the roll is the road plane's (the road's horizon, not
-               //   gravity's, from its motion), averaged over each window (temporal_filter.hpp)
+  kAuto,       // "auto": the lines' angles decide which windows are steady and give the yaw (the
+               //   more precise); roll and pitch are the road plane's (the road's horizon, not
+               //   gravity's, and the car's travel, not the lines' far ahead, from its motion),
+               //   averaged over each window (temporal_filter.hpp)
 };
 
 constexpr std::array<EnumName<CameraMethod>, 3> kCameraMethodNames{{
