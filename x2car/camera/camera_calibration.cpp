@@ -172,14 +172,13 @@ void estimate_frame(const CameraFrameSource& frames, const core::CameraIntrinsic
     record.estimate = estimators.single(image, intrinsics);
   }
   if (!record.estimate.usable()) return;
-  record.angles =
-      vehicle_from_camera_angles(record.estimate.road_vanishing_point_px,
-                                 record.estimate.horizon_line, intrinsics.camera_matrix());
   const FrameEstimate& estimate = record.estimate;
+  const Eigen::Matrix3d camera_matrix = intrinsics.camera_matrix();
+  record.angles = vehicle_from_camera_angles(estimate.road_vanishing_point_px,
+                                             estimate.horizon_line, camera_matrix);
   if (record.angles && estimate.road_plane_horizon_line && estimate.road_plane_vanishing_point_px) {
     // The roll with the lines' vanishing point (the road plane's horizon is orthogonalised against
     // it, as the steady angles' is), the pitch of the travel's direction.
-    const Eigen::Matrix3d camera_matrix = intrinsics.camera_matrix();
     const std::optional<EulerAngles> with_lines = vehicle_from_camera_angles(
         estimate.road_vanishing_point_px, *estimate.road_plane_horizon_line, camera_matrix);
     const std::optional<EulerAngles> with_travel = vehicle_from_camera_angles(

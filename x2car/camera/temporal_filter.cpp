@@ -11,6 +11,7 @@
 
 #include "x2car/core/enum_names.hpp"
 #include "x2car/core/options_check.hpp"
+#include "x2car/core/robust_stats.hpp"
 #include "x2car/core/standard_error.hpp"
 
 namespace x2car::camera {
@@ -47,21 +48,6 @@ double EulerAngles::*const kAngles[] = {&EulerAngles::roll, &EulerAngles::pitch,
 
 double largest(const EulerAngles& angles) {
   return std::max({angles.roll, angles.pitch, angles.yaw});
-}
-
-double median_of(std::vector<double> values) {
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
-
-// |value - median| beyond which a value is an outlier: `clip` scaled median absolute deviations
-// (1.4826: the median absolute deviation of a normal distribution in units of its std).
-double clip_limit(const std::vector<double>& values, double median, double clip) {
-  std::vector<double> deviations(values.size());
-  std::transform(values.begin(), values.end(), deviations.begin(),
-                 [median](double value) { return std::abs(value - median); });
-  return clip * 1.4826 * median_of(std::move(deviations));
 }
 
 }  // namespace
@@ -125,15 +111,13 @@ void TemporalFilter::take_road_plane_angles(FilterWindow& window) const {
   }
   const auto enough = static_cast<std::size_t>(options_.min_road_plane_frames);
   if (rolls.size() < enough) return;
-  const double roll_median = median_of(rolls);
-  const double pitch_median = median_of(pitches);
-  const double roll_limit = clip_limit(rolls, roll_median, options_.road_plane_clip);
-  const double pitch_limit = clip_limit(pitches, pitch_median, options_.road_plane_clip);
+  const OutlierRejectionOptions clip{.k = options_.road_plane_clip};
+  const std::vector<bool> roll_inliers = mad_inlier_mask(rolls, clip);
+  const std::vector<bool> pitch_inliers = mad_inlier_mask(pitches, clip);
   std::vector<double> kept_rolls;
   std::vector<double> kept_pitches;
   for (std::size_t i = 0; i < rolls.size(); ++i) {
-    if (std::abs(rolls[i] - roll_median) <= roll_limit &&
-        std::abs(pitches[i] - pitch_median) <= pitch_limit) {
+    if (roll_inliers[i] && pitch_inliers[i]) {
       kept_rolls.push_back(rolls[i]);
       kept_pitches.push_back(pitches[i]);
     }
@@ -143,16 +127,8 @@ void TemporalFilter::take_road_plane_angles(FilterWindow& window) const {
   // The mean, and its standard error: the std over the square root of half the count, as
   // consecutive frame pairs share a frame.
   const auto mean_and_error = [](const std::vector<double>& values) {
-    const double n = static_cast<double>(values.size());
-    double sum = 0.0;
-    double sum_squares = 0.0;
-    for (const double value : values) {
-      sum += value;
-      sum_squares += value * value;
-    }
-    const double mean = sum / n;
-    const double std = std::sqrt(std::max(0.0, (sum_squares - n * mean * mean) / (n - 1.0)));
-    return std::pair{mean, std / std::sqrt(0.5 * n)};
+    const double half = 0.5 * static_cast<double>(values.size());
+    return std::pair{weighted_mean(values), standard_deviation(values) / std::sqrt(half)};
   };
   const auto [roll, roll_error] = mean_and_error(kept_rolls);
   const auto [pitch, pitch_error] = mean_and_error(kept_pitches);
