@@ -29,6 +29,7 @@
 
 #include "x2car/camera/road_plane_motion.hpp"
 #include "x2car/camera/vanishing_rotation.hpp"
+#include "x2car/core/robust_stats.hpp"
 #include "x2car/sim/camera_labels.hpp"
 #include "x2car/sim/camera_render.hpp"
 #include "x2car/sim/camera_writer.hpp"
@@ -38,21 +39,6 @@
 namespace {
 
 using namespace x2car;
-
-double median(std::vector<double> values) {
-  if (values.empty()) return NAN;
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
-}
-
-double median_absolute_deviation(const std::vector<double>& values) {
-  const double centre = median(values);
-  std::vector<double> deviations;
-  deviations.reserve(values.size());
-  for (const double value : values) deviations.push_back(std::abs(value - centre));
-  return median(deviations);
-}
 
 struct TrackErrors {
   std::vector<double> along_flow_px;
@@ -148,35 +134,24 @@ int main(int argc, char** argv) {
           bucket.along_flow_px.push_back(flow.norm() > 0.1 ? error.dot(flow.normalized()) : 0.0);
         }
       }
-      const auto key_of = [&](const camera::RoadTracks& some) -> std::string {
-        if (&some == &true_tracks) return "true positions";
-        if (&some == &road_only_tracks) return "road corners";
-        if (&some == &asphalt_tracks) return "asphalt corners";
-        return prewarp ? "tracked again" : "tracked once";
-      };
-      const auto horizon_error = [&](const camera::RoadTracks& some) -> std::optional<double> {
+      // The road plane from `some` tracks, recorded under `key`: its horizon against the labels'
+      // [deg] and its travel's vanishing point against the labels' road VP [px].
+      const auto record_plane = [&](const camera::RoadTracks& some, const std::string& key) {
         const camera::FrameEstimate estimate =
             camera::road_plane_from_tracks(some.oldest_px, some.current_px, intrinsics, motion);
-        if (!estimate.usable()) return std::nullopt;
+        if (!estimate.usable()) return;
+        horizon_errors_deg[key].push_back(
+            deg_from_rad(camera::horizon_angle(estimate.horizon_line) - road_horizon));
         if (label.road_vp) {
-          travel_v_errors_px[key_of(some)].push_back(estimate.road_vanishing_point_px.y() -
-                                                     label.road_vp->undistorted_px.y());
+          travel_v_errors_px[key].push_back(estimate.road_vanishing_point_px.y() -
+                                            label.road_vp->undistorted_px.y());
         }
-        return deg_from_rad(camera::horizon_angle(estimate.horizon_line) - road_horizon);
       };
-      if (const auto error = horizon_error(tracks)) {
-        horizon_errors_deg[prewarp ? "tracked again" : "tracked once"].push_back(*error);
-      }
+      record_plane(tracks, prewarp ? "tracked again" : "tracked once");
       if (prewarp) {
-        if (const auto error = horizon_error(true_tracks)) {
-          horizon_errors_deg["true positions"].push_back(*error);
-        }
-        if (const auto error = horizon_error(road_only_tracks)) {
-          horizon_errors_deg["road corners"].push_back(*error);
-        }
-        if (const auto error = horizon_error(asphalt_tracks)) {
-          horizon_errors_deg["asphalt corners"].push_back(*error);
-        }
+        record_plane(true_tracks, "true positions");
+        record_plane(road_only_tracks, "road corners");
+        record_plane(asphalt_tracks, "asphalt corners");
       }
     }
   }
@@ -191,15 +166,15 @@ int main(int argc, char** argv) {
         key, bucket.size_px.size(), median(bucket.size_px), median(bucket.along_flow_px),
         100.0 * over);
   }
-  fmt::print("road plane's horizon against the labels' [deg]\n");
-  for (const auto& [key, values] : horizon_errors_deg) {
-    fmt::print("  {:<15} {:4} frames  median {:+.3f}  median absolute deviation {:.3f}\n", key,
-               values.size(), median(values), median_absolute_deviation(values));
-  }
-  fmt::print("travel's vanishing point v against the labels' road VP [px]\n");
-  for (const auto& [key, values] : travel_v_errors_px) {
-    fmt::print("  {:<15} {:4} frames  median {:+.3f}  median absolute deviation {:.3f}\n", key,
-               values.size(), median(values), median_absolute_deviation(values));
-  }
+  const auto print_medians = [](const std::string& title,
+                                const std::map<std::string, std::vector<double>>& by_key) {
+    fmt::print("{}\n", title);
+    for (const auto& [key, values] : by_key) {
+      fmt::print("  {:<15} {:4} frames  median {:+.3f}  median absolute deviation {:.3f}\n", key,
+                 values.size(), median(values), median_absolute_deviation(values));
+    }
+  };
+  print_medians("road plane's horizon against the labels' [deg]", horizon_errors_deg);
+  print_medians("travel's vanishing point v against the labels' road VP [px]", travel_v_errors_px);
   return 0;
 }
