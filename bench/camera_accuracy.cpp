@@ -207,6 +207,11 @@ void run(const std::string& drive, double segment_s, bool with_ins,
   for (const auto& [reason, count] : whole.rejections)
     rejected += fmt::format(" {} {}", reason, count);
   fmt::print("  rejected:{}\n", rejected.empty() ? " none" : rejected);
+  std::string road_plane;  // auto and motion: what the frame pairs gave
+  for (const auto& [key, count] : whole.support) {
+    if (key.rfind("road_plane", 0) == 0) road_plane += fmt::format(" {} {}", key, count);
+  }
+  if (!road_plane.empty()) fmt::print("  road plane:{}\n", road_plane);
   if (whole.ok()) {
     fmt::print("  standard errors: roll {:.3f} pitch {:.3f} yaw {:.3f} deg\n",
                deg_from_rad(whole.roll_std.value_or(NAN)),

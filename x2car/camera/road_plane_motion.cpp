@@ -25,6 +25,8 @@ void RoadPlaneMotionOptions::Check() const {
   check.at_least("tracking_window_px", tracking_window_px, 5);
   check.in_range("pyramid_levels", pyramid_levels, 0, 8);
   check.non_negative("max_lateral_over_height", max_lateral_over_height);
+  check.non_negative("max_seed_travel_over_height", max_seed_travel_over_height);
+  check.in_range("seeded_feature_quality", seeded_feature_quality, 0.0, 1.0, Bounds::kOpenMin);
   check.positive("max_forward_backward_px", max_forward_backward_px);
   check.positive("ransac_threshold_px", ransac_threshold_px);
   check.at_least("min_inliers", min_inliers, 8);
@@ -75,16 +77,12 @@ void track_step(const cv::Mat& from, const cv::Mat& to, const RoadPlaneMotionOpt
   }
 }
 
-// Step 1b (RoadPlaneMotionOptions::prewarp): the homography (in pixels, RANSAC) that the live
-// tracks fit, the oldest image warped by it into the current one's view, and each corner tracked
-// again from its predicted place, one pyramid level, forward and back. Through a lens with
-// distortion the pixels' homography is only a prediction; the second tracking absorbs the rest.
-// Without enough live tracks, or without a homography, the tracks stay as they were.
-void retrack_through_homography(const cv::Mat& oldest, const cv::Mat& current,
-                                const RoadPlaneMotionOptions& options,
-                                const std::vector<cv::Point2f>& corners,
-                                std::vector<cv::Point2f>& points,
-                                std::vector<unsigned char>& alive) {
+// The homography (in pixels, RANSAC) that the live tracks fit; empty with fewer than
+// `min_inliers` of them. A looser threshold than step 3's: these tracks only seed the next ones.
+cv::Mat homography_of_live_tracks(const RoadPlaneMotionOptions& options,
+                                  const std::vector<cv::Point2f>& corners,
+                                  const std::vector<cv::Point2f>& points,
+                                  const std::vector<unsigned char>& alive) {
   std::vector<cv::Point2f> from;
   std::vector<cv::Point2f> to;
   for (std::size_t i = 0; i < corners.size(); ++i) {
@@ -92,11 +90,20 @@ void retrack_through_homography(const cv::Mat& oldest, const cv::Mat& current,
     from.push_back(corners[i]);
     to.push_back(points[i]);
   }
-  if (from.size() < static_cast<std::size_t>(std::max(options.min_inliers, 8))) return;
-  // A looser threshold than step 3's: the first tracks are the biased ones being mended.
-  const cv::Mat homography =
-      cv::findHomography(from, to, cv::RANSAC, 2.0 * options.ransac_threshold_px);
-  if (homography.empty()) return;
+  if (from.size() < static_cast<std::size_t>(std::max(options.min_inliers, 8))) return {};
+  return cv::findHomography(from, to, cv::RANSAC, 2.0 * options.ransac_threshold_px);
+}
+
+// Step 1b (RoadPlaneMotionOptions::prewarp): the oldest image warped by `homography` (pixels) into
+// the current one's view, and each corner tracked again from its predicted place, forward and
+// back, through `levels` pyramid levels above the image. Through a lens with distortion the
+// pixels' homography is only a prediction; the second tracking absorbs the rest. Returns how many
+// tracks are alive.
+int retrack_through_homography(const cv::Mat& oldest, const cv::Mat& current,
+                               const RoadPlaneMotionOptions& options, const cv::Mat& homography,
+                               int levels, const std::vector<cv::Point2f>& corners,
+                               std::vector<cv::Point2f>& points,
+                               std::vector<unsigned char>& alive) {
   cv::Mat warped;
   cv::warpPerspective(oldest, warped, homography, oldest.size(), cv::INTER_LINEAR);
   std::vector<cv::Point2f> predicted;
@@ -108,10 +115,12 @@ void retrack_through_homography(const cv::Mat& oldest, const cv::Mat& current,
   std::vector<float> errors;
   const cv::Size window(options.tracking_window_px, options.tracking_window_px);
   const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01);
-  cv::calcOpticalFlowPyrLK(warped, current, predicted, tracked, forward_ok, errors, window, 1,
+  cv::calcOpticalFlowPyrLK(warped, current, predicted, tracked, forward_ok, errors, window, levels,
                            criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
-  cv::calcOpticalFlowPyrLK(current, warped, tracked, back, back_ok, errors, window, 1, criteria);
+  cv::calcOpticalFlowPyrLK(current, warped, tracked, back, back_ok, errors, window, levels,
+                           criteria);
   const double max_miss_squared = options.max_forward_backward_px * options.max_forward_backward_px;
+  int live = 0;
   for (std::size_t i = 0; i < corners.size(); ++i) {
     const cv::Point2f miss = back[i] - predicted[i];
     const cv::Point2f& p = tracked[i];
@@ -119,34 +128,130 @@ void retrack_through_homography(const cv::Mat& oldest, const cv::Mat& current,
                p.y >= 0.0f && p.x <= static_cast<float>(current.cols - 1) &&
                p.y <= static_cast<float>(current.rows - 1);
     points[i] = p;
+    live += alive[i];
   }
+  return live;
 }
 
-// Step 1: Shi-Tomasi corners below the road region's top row in the oldest frame, tracked frame by
-// frame into the current one.
+// The zero-mean normalised correlation of two images of one size over `mask`'s non-zero pixels.
+double masked_correlation(const cv::Mat& first, const cv::Mat& second, const cv::Mat& mask) {
+  cv::Mat first_float;
+  cv::Mat second_float;
+  first.convertTo(first_float, CV_32F);
+  second.convertTo(second_float, CV_32F);
+  cv::Scalar first_mean;
+  cv::Scalar first_sd;
+  cv::Scalar second_mean;
+  cv::Scalar second_sd;
+  cv::meanStdDev(first_float, first_mean, first_sd, mask);
+  cv::meanStdDev(second_float, second_mean, second_sd, mask);
+  if (first_sd[0] <= 0.0 || second_sd[0] <= 0.0) return 0.0;
+  const double product_mean = cv::mean(first_float.mul(second_float), mask)[0];
+  return (product_mean - first_mean[0] * second_mean[0]) / (first_sd[0] * second_sd[0]);
+}
+
+// Step 1b's second seed (RoadPlaneMotionOptions::max_seed_travel_over_height): the road's
+// homography for straight travel along the nominal forward direction (the optical axis) over a
+// road square to the image's rows (normal +y), H = I - (s / h) f n^T, with the travel over the
+// camera's height s / h searched on a grid 5 % apart: the oldest image warped by each and compared
+// with the current one over the road region, both at half resolution. Empty when the search is
+// off or nothing correlates.
+cv::Mat searched_road_homography(const cv::Mat& oldest, const cv::Mat& current,
+                                 const cv::Mat& road_mask, const core::CameraIntrinsics& intrinsics,
+                                 const RoadPlaneMotionOptions& options) {
+  const double first = std::max(options.min_translation_over_height, 0.05);
+  if (options.max_seed_travel_over_height <= first) return {};
+  cv::Mat oldest_half;
+  cv::Mat current_half;
+  cv::Mat mask_half;
+  cv::pyrDown(oldest, oldest_half);
+  cv::pyrDown(current, current_half);
+  cv::resize(road_mask, mask_half, current_half.size(), 0.0, 0.0, cv::INTER_NEAREST);
+  const cv::Rect box = cv::boundingRect(mask_half);
+  if (box.area() == 0) return {};
+  const cv::Mat current_box = current_half(box);
+  const cv::Mat mask_box = mask_half(box);
+  // Pixel (u, v) of the half image is (2u, 2v) of the whole one.
+  const Eigen::Matrix3d camera_matrix = intrinsics.camera_matrix();
+  Eigen::Matrix3d half_from_full = Eigen::Matrix3d::Identity();
+  half_from_full(0, 0) = half_from_full(1, 1) = 0.5;
+  Eigen::Matrix3d box_from_half = Eigen::Matrix3d::Identity();
+  box_from_half(0, 2) = -box.x;
+  box_from_half(1, 2) = -box.y;
+  const auto pixel_homography = [&](double travel_over_height) {
+    Eigen::Matrix3d plane = Eigen::Matrix3d::Identity();
+    plane(2, 1) = -travel_over_height;  // I - (s/h) f n^T with f = +z, n = +y
+    return Eigen::Matrix3d(camera_matrix * plane * camera_matrix.inverse());
+  };
+  const auto to_cv = [](const Eigen::Matrix3d& matrix) {
+    cv::Mat out(3, 3, CV_64F);
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) out.at<double>(r, c) = matrix(r, c);
+    }
+    return out;
+  };
+  const double step = std::log(1.05);
+  const int candidates = static_cast<int>(
+      std::floor(std::log(options.max_seed_travel_over_height / first) / step)) + 1;
+  std::vector<double> scores(static_cast<std::size_t>(candidates), -1.0);
+  cv::Mat warped;
+  for (int k = 0; k < candidates; ++k) {
+    const Eigen::Matrix3d in_box =
+        box_from_half * half_from_full * pixel_homography(first * std::exp(k * step)) *
+        half_from_full.inverse();
+    cv::warpPerspective(oldest_half, warped, to_cv(in_box), box.size(), cv::INTER_LINEAR,
+                        cv::BORDER_REPLICATE);
+    scores[static_cast<std::size_t>(k)] = masked_correlation(warped, current_box, mask_box);
+  }
+  const auto best = std::max_element(scores.begin(), scores.end());
+  if (*best <= 0.0) return {};
+  const auto k = static_cast<double>(best - scores.begin());
+  // The parabola through the best and its neighbours, in the logarithm of s / h.
+  double offset = 0.0;
+  if (best != scores.begin() && best + 1 != scores.end()) {
+    const double left = *(best - 1);
+    const double right = *(best + 1);
+    const double curvature = left - 2.0 * *best + right;
+    if (curvature < 0.0) offset = std::clamp(0.5 * (left - right) / curvature, -0.5, 0.5);
+  }
+  return to_cv(pixel_homography(first * std::exp((k + offset) * step)));
+}
+
+// The road region of step 1: below the row of `road_region_depression`, inside the wedge of
+// `max_lateral_over_height`.
+cv::Mat road_region_mask(const cv::Size& size, const core::CameraIntrinsics& intrinsics,
+                         const RoadPlaneMotionOptions& options) {
+  const double top_row = intrinsics.cy + intrinsics.fy * std::tan(options.road_region_depression);
+  const int top = std::clamp(static_cast<int>(std::ceil(top_row)), 0, size.height - 1);
+  cv::Mat mask = cv::Mat::zeros(size, CV_8U);
+  mask.rowRange(top, size.height).setTo(255);
+  if (options.max_lateral_over_height > 0.0) {
+    // For a level camera a road point y to the side, h below and Z ahead is imaged at
+    // u - cx = fx y / Z, v - cy = fy h / Z: |u - cx| / (v - cy) = (fx / fy) |y| / h.
+    for (int v = top; v < size.height; ++v) {
+      const double half_px =
+          options.max_lateral_over_height * (v - intrinsics.cy) * intrinsics.fx / intrinsics.fy;
+      const int first =
+          std::clamp(static_cast<int>(std::ceil(intrinsics.cx - half_px)), 0, size.width);
+      const int last =
+          std::clamp(static_cast<int>(std::floor(intrinsics.cx + half_px)) + 1, first, size.width);
+      mask.row(v).colRange(0, first).setTo(0);
+      mask.row(v).colRange(last, size.width).setTo(0);
+    }
+  }
+  return mask;
+}
+
+// Step 1: Shi-Tomasi corners in the road region of the oldest frame, tracked frame by frame into
+// the current one, then (prewarp) again through the homography of those tracks, or of the search
+// when they leave too few.
 void track_road_points(const std::vector<cv::Mat>& greys, const core::CameraIntrinsics& intrinsics,
                        const RoadPlaneMotionOptions& options,
                        std::vector<Eigen::Vector2d>& oldest_px,
                        std::vector<Eigen::Vector2d>& current_px) {
   const cv::Mat& oldest = greys.front();
-  const double top_row = intrinsics.cy + intrinsics.fy * std::tan(options.road_region_depression);
-  const int top = std::clamp(static_cast<int>(std::ceil(top_row)), 0, oldest.rows - 1);
-  cv::Mat mask = cv::Mat::zeros(oldest.size(), CV_8U);
-  mask.rowRange(top, oldest.rows).setTo(255);
-  if (options.max_lateral_over_height > 0.0) {
-    // For a level camera a road point y to the side, h below and Z ahead is imaged at
-    // u - cx = fx y / Z, v - cy = fy h / Z: |u - cx| / (v - cy) = (fx / fy) |y| / h.
-    for (int v = top; v < oldest.rows; ++v) {
-      const double half_px =
-          options.max_lateral_over_height * (v - intrinsics.cy) * intrinsics.fx / intrinsics.fy;
-      const int first =
-          std::clamp(static_cast<int>(std::ceil(intrinsics.cx - half_px)), 0, oldest.cols);
-      const int last =
-          std::clamp(static_cast<int>(std::floor(intrinsics.cx + half_px)) + 1, first, oldest.cols);
-      mask.row(v).colRange(0, first).setTo(0);
-      mask.row(v).colRange(last, oldest.cols).setTo(0);
-    }
-  }
+  const cv::Mat& current = greys.back();
+  const cv::Mat mask = road_region_mask(oldest.size(), intrinsics, options);
   std::vector<cv::Point2f> corners;
   cv::goodFeaturesToTrack(oldest, corners, options.max_features, options.feature_quality,
                           options.min_feature_distance_px, mask);
@@ -156,8 +261,32 @@ void track_road_points(const std::vector<cv::Mat>& greys, const core::CameraIntr
   for (std::size_t k = 1; k < greys.size(); ++k) {
     track_step(greys[k - 1], greys[k], options, points, alive);
   }
-  if (options.prewarp)
-    retrack_through_homography(oldest, greys.back(), options, corners, points, alive);
+  if (options.prewarp) {
+    const cv::Mat homography = homography_of_live_tracks(options, corners, points, alive);
+    int live = 0;
+    if (!homography.empty()) {
+      live = retrack_through_homography(oldest, current, options, homography, 1, corners, points,
+                                        alive);
+    }
+    if (live < options.min_inliers) {
+      const cv::Mat searched = searched_road_homography(oldest, current, mask, intrinsics, options);
+      if (!searched.empty()) {
+        // Weaker corners as well, from the searched seed through the pyramid (the nominal
+        // directions leave a few pixels), then once more through the homography of those tracks,
+        // as from the tracked seed.
+        cv::goodFeaturesToTrack(oldest, corners, options.max_features,
+                                options.seeded_feature_quality, options.min_feature_distance_px,
+                                mask);
+        points.resize(corners.size());
+        alive.resize(corners.size());
+        retrack_through_homography(oldest, current, options, searched, 2, corners, points, alive);
+        const cv::Mat refined = homography_of_live_tracks(options, corners, points, alive);
+        if (!refined.empty()) {
+          retrack_through_homography(oldest, current, options, refined, 1, corners, points, alive);
+        }
+      }
+    }
+  }
   for (std::size_t i = 0; i < corners.size(); ++i) {
     if (!alive[i]) continue;
     oldest_px.emplace_back(corners[i].x, corners[i].y);
