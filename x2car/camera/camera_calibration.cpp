@@ -105,7 +105,7 @@ FrameEstimate estimate_sequence(const CameraFrameSource& frames,
                                 const core::CameraIntrinsics& intrinsics,
                                 const CameraCalibrationOptions& options,
                                 const SequenceEstimator& estimator, std::size_t index,
-                                const cv::Mat& image) {
+                                const cv::Mat& image, const std::optional<SequenceGuide>& guide) {
   const auto span = static_cast<std::size_t>(options.motion.tracked_frames);
   if (index + 1 < span) return rejected_frame(FrameRejection::kNoPreviousFrame);
   const std::size_t first = index + 1 - span;
@@ -125,7 +125,7 @@ FrameEstimate estimate_sequence(const CameraFrameSource& frames,
     return rejected_frame(FrameRejection::kNoPreviousFrame);
   }
   sequence.push_back(image);
-  return estimator(sequence, intrinsics);
+  return estimator(sequence, intrinsics, guide);
 }
 
 // auto: the lines' estimate (their vanishing point, gravity's horizon: steady, for the window's
@@ -161,13 +161,14 @@ void estimate_frame(const CameraFrameSource& frames, const core::CameraIntrinsic
     record.estimate = lines;
     if (lines.usable()) {
       const FrameEstimate road =
-          estimate_sequence(frames, intrinsics, options, estimators.sequence, index, image);
+          estimate_sequence(frames, intrinsics, options, estimators.sequence, index, image,
+                            SequenceGuide{lines.road_vanishing_point_px, lines.horizon_line});
       record.estimate = combine(lines, road);
       record.road_plane_rejection = road.rejection;
     }
   } else if (estimators.sequence) {
-    record.estimate =
-        estimate_sequence(frames, intrinsics, options, estimators.sequence, index, image);
+    record.estimate = estimate_sequence(frames, intrinsics, options, estimators.sequence, index,
+                                        image, std::nullopt);
   } else {
     record.estimate = estimators.single(image, intrinsics);
   }

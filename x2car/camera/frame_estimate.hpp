@@ -105,10 +105,18 @@ inline FrameEstimate rejected_frame(FrameRejection rejection) {
 using FrameEstimator =
     std::function<FrameEstimate(const cv::Mat& image, const core::CameraIntrinsics& intrinsics)>;
 
+// A first guess of the current frame's geometry for a SequenceEstimator (auto: the lines'
+// vanishing point and gravity's horizon of the same frame), as in FrameEstimate.
+struct SequenceGuide {
+  Eigen::Vector2d vanishing_point_px = Eigen::Vector2d::Zero();  // [undistorted px]
+  Eigen::Vector3d horizon_line = Eigen::Vector3d(0.0, 1.0, 0.0);
+};
+
 // A per-frame estimator that needs the frames before it as well (the motion estimator): the
-// frames oldest first, the current one last, whose estimate it returns. The same rules as
-// FrameEstimator.
-using SequenceEstimator = std::function<FrameEstimate(const std::vector<cv::Mat>& frames,
-                                                      const core::CameraIntrinsics& intrinsics)>;
+// frames oldest first, the current one last, whose estimate it returns, and a guess of that
+// frame's geometry when there is one. The same rules as FrameEstimator.
+using SequenceEstimator = std::function<FrameEstimate(
+    const std::vector<cv::Mat>& frames, const core::CameraIntrinsics& intrinsics,
+    const std::optional<SequenceGuide>& guide)>;
 
 }  // namespace x2car::camera

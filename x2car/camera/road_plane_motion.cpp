@@ -151,16 +151,30 @@ double masked_correlation(const cv::Mat& first, const cv::Mat& second, const cv:
 }
 
 // Step 1b's second seed (RoadPlaneMotionOptions::max_seed_travel_over_height): the road's
-// homography for straight travel along the nominal forward direction (the optical axis) over a
-// road square to the image's rows (normal +y), H = I - (s / h) f n^T, with the travel over the
-// camera's height s / h searched on a grid 5 % apart: the oldest image warped by each and compared
-// with the current one over the road region, both at half resolution. Empty when the search is
-// off or nothing correlates.
+// homography for straight travel s along the car's forward direction f over the road (unit normal
+// n, pointing down, at the camera's height h), X2 = X1 - s f and n^T X1 = h, so
+// H = I - (s / h) f n^T, with f and n from the guide (else the optical axis and +y) and s / h
+// searched on a grid 5 % apart: the oldest image warped by each and compared with the current one
+// over the road region, both at half resolution. Empty when the search is off or nothing
+// correlates.
 cv::Mat searched_road_homography(const cv::Mat& oldest, const cv::Mat& current,
                                  const cv::Mat& road_mask, const core::CameraIntrinsics& intrinsics,
-                                 const RoadPlaneMotionOptions& options) {
+                                 const RoadPlaneMotionOptions& options,
+                                 const std::optional<SequenceGuide>& guide) {
   const double first = std::max(options.min_translation_over_height, 0.05);
   if (options.max_seed_travel_over_height <= first) return {};
+  Eigen::Vector3d forward = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d down = Eigen::Vector3d::UnitY();
+  if (guide) {
+    const std::optional<Eigen::Matrix3d> vehicle_from_camera = vehicle_from_camera_rotation(
+        guide->vanishing_point_px, guide->horizon_line, intrinsics.camera_matrix());
+    if (vehicle_from_camera) {
+      const Eigen::Matrix3d optical_from_vehicle =
+          (*vehicle_from_camera * body_from_optical()).transpose();
+      forward = optical_from_vehicle.col(0);
+      down = -optical_from_vehicle.col(2);
+    }
+  }
   cv::Mat oldest_half;
   cv::Mat current_half;
   cv::Mat mask_half;
@@ -179,8 +193,8 @@ cv::Mat searched_road_homography(const cv::Mat& oldest, const cv::Mat& current,
   box_from_half(0, 2) = -box.x;
   box_from_half(1, 2) = -box.y;
   const auto pixel_homography = [&](double travel_over_height) {
-    Eigen::Matrix3d plane = Eigen::Matrix3d::Identity();
-    plane(2, 1) = -travel_over_height;  // I - (s/h) f n^T with f = +z, n = +y
+    const Eigen::Matrix3d plane =
+        Eigen::Matrix3d::Identity() - travel_over_height * forward * down.transpose();
     return Eigen::Matrix3d(camera_matrix * plane * camera_matrix.inverse());
   };
   const auto to_cv = [](const Eigen::Matrix3d& matrix) {
@@ -242,20 +256,28 @@ cv::Mat road_region_mask(const cv::Size& size, const core::CameraIntrinsics& int
   return mask;
 }
 
+// The tracks alive, as RoadTracks.
+RoadTracks live_tracks(const std::vector<cv::Point2f>& corners,
+                       const std::vector<cv::Point2f>& points,
+                       const std::vector<unsigned char>& alive) {
+  RoadTracks tracks;
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    if (!alive[i]) continue;
+    tracks.oldest_px.emplace_back(corners[i].x, corners[i].y);
+    tracks.current_px.emplace_back(points[i].x, points[i].y);
+  }
+  return tracks;
+}
+
 // Step 1: Shi-Tomasi corners in the road region of the oldest frame, tracked frame by frame into
-// the current one, then (prewarp) again through the homography of those tracks, or of the search
-// when they leave too few.
-void track_road_points(const std::vector<cv::Mat>& greys, const core::CameraIntrinsics& intrinsics,
-                       const RoadPlaneMotionOptions& options,
-                       std::vector<Eigen::Vector2d>& oldest_px,
-                       std::vector<Eigen::Vector2d>& current_px) {
+// the current one, then (prewarp) again through the homography of those tracks.
+RoadTracks track_road_points(const std::vector<cv::Mat>& greys, const cv::Mat& road_mask,
+                             const RoadPlaneMotionOptions& options) {
   const cv::Mat& oldest = greys.front();
-  const cv::Mat& current = greys.back();
-  const cv::Mat mask = road_region_mask(oldest.size(), intrinsics, options);
   std::vector<cv::Point2f> corners;
   cv::goodFeaturesToTrack(oldest, corners, options.max_features, options.feature_quality,
-                          options.min_feature_distance_px, mask);
-  if (corners.empty()) return;
+                          options.min_feature_distance_px, road_mask);
+  if (corners.empty()) return {};
   std::vector<cv::Point2f> points = corners;
   std::vector<unsigned char> alive(points.size(), 1);
   for (std::size_t k = 1; k < greys.size(); ++k) {
@@ -263,35 +285,39 @@ void track_road_points(const std::vector<cv::Mat>& greys, const core::CameraIntr
   }
   if (options.prewarp) {
     const cv::Mat homography = homography_of_live_tracks(options, corners, points, alive);
-    int live = 0;
     if (!homography.empty()) {
-      live = retrack_through_homography(oldest, current, options, homography, 1, corners, points,
-                                        alive);
-    }
-    if (live < options.min_inliers) {
-      const cv::Mat searched = searched_road_homography(oldest, current, mask, intrinsics, options);
-      if (!searched.empty()) {
-        // Weaker corners as well, from the searched seed through the pyramid (the nominal
-        // directions leave a few pixels), then once more through the homography of those tracks,
-        // as from the tracked seed.
-        cv::goodFeaturesToTrack(oldest, corners, options.max_features,
-                                options.seeded_feature_quality, options.min_feature_distance_px,
-                                mask);
-        points.resize(corners.size());
-        alive.resize(corners.size());
-        retrack_through_homography(oldest, current, options, searched, 2, corners, points, alive);
-        const cv::Mat refined = homography_of_live_tracks(options, corners, points, alive);
-        if (!refined.empty()) {
-          retrack_through_homography(oldest, current, options, refined, 1, corners, points, alive);
-        }
-      }
+      retrack_through_homography(oldest, greys.back(), options, homography, 1, corners, points,
+                                 alive);
     }
   }
-  for (std::size_t i = 0; i < corners.size(); ++i) {
-    if (!alive[i]) continue;
-    oldest_px.emplace_back(corners[i].x, corners[i].y);
-    current_px.emplace_back(points[i].x, points[i].y);
+  return live_tracks(corners, points, alive);
+}
+
+// Step 1 from the searched seed (RoadPlaneMotionOptions::max_seed_travel_over_height): corners
+// down to `seeded_feature_quality`, tracked from where the searched homography puts them through
+// two pyramid levels (the guide's directions are a few tenths of a degree off, the nominal ones a
+// few degrees), then once more through the homography of those tracks, as step 1b. Empty when the
+// search finds nothing.
+RoadTracks track_from_searched_seed(const cv::Mat& oldest, const cv::Mat& current,
+                                    const cv::Mat& road_mask,
+                                    const core::CameraIntrinsics& intrinsics,
+                                    const RoadPlaneMotionOptions& options,
+                                    const std::optional<SequenceGuide>& guide) {
+  const cv::Mat searched =
+      searched_road_homography(oldest, current, road_mask, intrinsics, options, guide);
+  if (searched.empty()) return {};
+  std::vector<cv::Point2f> corners;
+  cv::goodFeaturesToTrack(oldest, corners, options.max_features, options.seeded_feature_quality,
+                          options.min_feature_distance_px, road_mask);
+  if (corners.empty()) return {};
+  std::vector<cv::Point2f> points(corners.size());
+  std::vector<unsigned char> alive(corners.size(), 0);
+  retrack_through_homography(oldest, current, options, searched, 2, corners, points, alive);
+  const cv::Mat refined = homography_of_live_tracks(options, corners, points, alive);
+  if (!refined.empty()) {
+    retrack_through_homography(oldest, current, options, refined, 1, corners, points, alive);
   }
+  return live_tracks(corners, points, alive);
 }
 
 // Step 4: of the decomposition's solutions, the one whose normal points down the most; nullopt
@@ -415,47 +441,78 @@ FrameEstimate road_plane_from_tracks(const std::vector<Eigen::Vector2d>& previou
   return estimate;
 }
 
-FrameEstimate estimate_road_plane_motion(const std::vector<cv::Mat>& frames,
-                                         const core::CameraIntrinsics& intrinsics,
-                                         const RoadPlaneMotionOptions& options) {
-  if (frames.size() < 2) return rejected_frame(FrameRejection::kNoPreviousFrame);
-  std::vector<cv::Mat> greys;
+namespace {
+
+// Frames -> 8-bit greys of the intrinsics' size, or why not.
+std::optional<FrameRejection> grey_frames(const std::vector<cv::Mat>& frames,
+                                          const core::CameraIntrinsics& intrinsics,
+                                          std::vector<cv::Mat>& greys) {
+  if (frames.size() < 2) return FrameRejection::kNoPreviousFrame;
   greys.reserve(frames.size());
   for (const cv::Mat& image : frames) {
-    if (image.empty()) return rejected_frame(FrameRejection::kUnreadableImage);
+    if (image.empty()) return FrameRejection::kUnreadableImage;
     if (image.cols != intrinsics.width || image.rows != intrinsics.height) {
-      return rejected_frame(FrameRejection::kWrongImageSize);
+      return FrameRejection::kWrongImageSize;
     }
     greys.push_back(grey_8bit(image));
   }
-  std::vector<Eigen::Vector2d> oldest_px;
-  std::vector<Eigen::Vector2d> current_px;
-  track_road_points(greys, intrinsics, options, oldest_px, current_px);
-  return road_plane_from_tracks(oldest_px, current_px, intrinsics, options);
+  return std::nullopt;
+}
+
+// Steps 1-5, from the tracked seed and, when that gives no road plane (other than for too little
+// motion), from the searched one; `used` receives the tracks of the estimate returned.
+FrameEstimate fit_road_plane(const std::vector<cv::Mat>& greys,
+                             const core::CameraIntrinsics& intrinsics,
+                             const RoadPlaneMotionOptions& options,
+                             const std::optional<SequenceGuide>& guide, RoadTracks& used) {
+  const cv::Mat mask = road_region_mask(greys.front().size(), intrinsics, options);
+  used = track_road_points(greys, mask, options);
+  FrameEstimate estimate =
+      road_plane_from_tracks(used.oldest_px, used.current_px, intrinsics, options);
+  if (estimate.usable() || !options.prewarp || options.max_seed_travel_over_height <= 0.0 ||
+      estimate.rejection == FrameRejection::kTooLittleMotion) {
+    return estimate;
+  }
+  RoadTracks searched =
+      track_from_searched_seed(greys.front(), greys.back(), mask, intrinsics, options, guide);
+  FrameEstimate from_search =
+      road_plane_from_tracks(searched.oldest_px, searched.current_px, intrinsics, options);
+  if (!from_search.usable()) return estimate;
+  used = std::move(searched);
+  return from_search;
+}
+
+}  // namespace
+
+FrameEstimate estimate_road_plane_motion(const std::vector<cv::Mat>& frames,
+                                         const core::CameraIntrinsics& intrinsics,
+                                         const RoadPlaneMotionOptions& options,
+                                         const std::optional<SequenceGuide>& guide) {
+  std::vector<cv::Mat> greys;
+  if (const auto rejection = grey_frames(frames, intrinsics, greys)) {
+    return rejected_frame(*rejection);
+  }
+  RoadTracks used;
+  return fit_road_plane(greys, intrinsics, options, guide, used);
 }
 
 RoadTracks road_plane_tracks(const std::vector<cv::Mat>& frames,
                              const core::CameraIntrinsics& intrinsics,
-                             const RoadPlaneMotionOptions& options) {
-  RoadTracks tracks;
+                             const RoadPlaneMotionOptions& options,
+                             const std::optional<SequenceGuide>& guide) {
   std::vector<cv::Mat> greys;
-  greys.reserve(frames.size());
-  for (const cv::Mat& image : frames) {
-    if (image.empty() || image.cols != intrinsics.width || image.rows != intrinsics.height) {
-      return tracks;
-    }
-    greys.push_back(grey_8bit(image));
+  RoadTracks used;
+  if (!grey_frames(frames, intrinsics, greys)) {
+    fit_road_plane(greys, intrinsics, options, guide, used);
   }
-  if (greys.size() >= 2) {
-    track_road_points(greys, intrinsics, options, tracks.oldest_px, tracks.current_px);
-  }
-  return tracks;
+  return used;
 }
 
 SequenceEstimator make_road_plane_motion_estimator(const RoadPlaneMotionOptions& options) {
   options.Check();
-  return [options](const std::vector<cv::Mat>& frames, const core::CameraIntrinsics& intrinsics) {
-    return estimate_road_plane_motion(frames, intrinsics, options);
+  return [options](const std::vector<cv::Mat>& frames, const core::CameraIntrinsics& intrinsics,
+                   const std::optional<SequenceGuide>& guide) {
+    return estimate_road_plane_motion(frames, intrinsics, options, guide);
   };
 }
 

@@ -32,6 +32,7 @@
 // from the parallax, which vanishes with the baseline.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "x2car/camera/frame_estimate.hpp"
@@ -78,7 +79,8 @@ struct RoadPlaneMotionOptions {
   // after it), a second seed: a search over the one unknown of straight driving, the travel over
   // the camera's height |t| / d, between `min_translation_over_height` and this. For each
   // candidate the oldest image is warped by the road's homography (the car's forward direction
-  // and the road's normal from the nominal mounting, or from the guide when one is given) and
+  // and the road's normal from the guide when one is given, else from a level camera looking
+  // straight ahead) and
   // compared with the current one over the road region (correlation, at half resolution); the
   // best seeds the second tracking. At highway speed (2.5-3 m between frames at 10 Hz, up to
   // twice the camera's height) the road near the car moves by 50-100 px and stretches by a third,
@@ -112,10 +114,13 @@ struct RoadPlaneMotionOptions {
 // Frames a short time apart, oldest first, the current one last (8 or 16 bit, grey or BGR, the
 // intrinsics' size; at least two) -> the current frame's estimate: the car's forward vanishing
 // point and the road plane's horizon, or why not (too_few_tracks, too_little_motion,
-// no_road_plane, wrong_image_size, unreadable_image). Pure: safe to call from several threads.
+// no_road_plane, wrong_image_size, unreadable_image). `guide` (the current frame's vanishing point
+// and horizon from elsewhere) only aims the seed search of `max_seed_travel_over_height`. Pure:
+// safe to call from several threads.
 FrameEstimate estimate_road_plane_motion(const std::vector<cv::Mat>& frames,
                                          const core::CameraIntrinsics& intrinsics,
-                                         const RoadPlaneMotionOptions& options = {});
+                                         const RoadPlaneMotionOptions& options = {},
+                                         const std::optional<SequenceGuide>& guide = std::nullopt);
 
 // Step 1 alone (with its second tracking when `prewarp`): the tracks estimate_road_plane_motion
 // fits, in distorted pixels of the oldest frame and of the current one, as many of each; none when
@@ -127,7 +132,8 @@ struct RoadTracks {
 };
 RoadTracks road_plane_tracks(const std::vector<cv::Mat>& frames,
                              const core::CameraIntrinsics& intrinsics,
-                             const RoadPlaneMotionOptions& options = {});
+                             const RoadPlaneMotionOptions& options = {},
+                             const std::optional<SequenceGuide>& guide = std::nullopt);
 
 // Steps 2-5 on tracks already made: `previous_px` (in the oldest frame) and `current_px` are
 // distorted pixels of the same road points (as many of each).
