@@ -133,41 +133,89 @@ int retrack_through_homography(const cv::Mat& oldest, const cv::Mat& current,
   return live;
 }
 
-// The zero-mean normalised correlation of two images of one size over `mask`'s non-zero pixels.
-double masked_correlation(const cv::Mat& first, const cv::Mat& second, const cv::Mat& mask) {
-  cv::Mat first_float;
-  cv::Mat second_float;
-  first.convertTo(first_float, CV_32F);
-  second.convertTo(second_float, CV_32F);
-  cv::Scalar first_mean;
-  cv::Scalar first_sd;
-  cv::Scalar second_mean;
-  cv::Scalar second_sd;
-  cv::meanStdDev(first_float, first_mean, first_sd, mask);
-  cv::meanStdDev(second_float, second_mean, second_sd, mask);
-  if (first_sd[0] <= 0.0 || second_sd[0] <= 0.0) return 0.0;
-  const double product_mean = cv::mean(first_float.mul(second_float), mask)[0];
-  return (product_mean - first_mean[0] * second_mean[0]) / (first_sd[0] * second_sd[0]);
+cv::Mat cv_from_matrix(const Eigen::Matrix3d& matrix) {
+  cv::Mat out(3, 3, CV_64F);
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) out.at<double>(r, c) = matrix(r, c);
+  }
+  return out;
 }
+
+// How well a homography (pixels) maps the oldest image onto the current one over the road region:
+// the zero-mean normalised correlation of the warped oldest image and the current one, both at
+// half resolution (the road's texture at the tracker's scale, at a quarter of the cost).
+class RoadCorrelation {
+ public:
+  RoadCorrelation(const cv::Mat& oldest, const cv::Mat& current, const cv::Mat& road_mask) {
+    cv::pyrDown(oldest, oldest_half_);
+    cv::Mat current_half;
+    cv::pyrDown(current, current_half);
+    cv::Mat mask_half;
+    cv::resize(road_mask, mask_half, current_half.size(), 0.0, 0.0, cv::INTER_NEAREST);
+    box_ = cv::boundingRect(mask_half);
+    if (box_.area() == 0) return;
+    mask_ = mask_half(box_);
+    current_half(box_).convertTo(current_, CV_32F);
+    cv::Scalar sd;
+    cv::meanStdDev(current_, current_mean_, sd, mask_);
+    current_sd_ = sd[0];
+    // Pixel (u, v) of the half image is (2u, 2v) of the whole one; the box starts at its corner.
+    box_from_full_ << 0.5, 0.0, -box_.x, 0.0, 0.5, -box_.y, 0.0, 0.0, 1.0;
+    half_to_full_ << 2.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 1.0;
+  }
+
+  // In [-1, 1]; -1 when the region is empty or flat.
+  double operator()(const Eigen::Matrix3d& current_from_oldest_px) {
+    if (box_.area() == 0 || current_sd_ <= 0.0) return -1.0;
+    const Eigen::Matrix3d in_box = box_from_full_ * current_from_oldest_px * half_to_full_;
+    cv::warpPerspective(oldest_half_, warped_, cv_from_matrix(in_box), box_.size(),
+                        cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+    warped_.convertTo(warped_float_, CV_32F);
+    cv::Scalar mean;
+    cv::Scalar sd;
+    cv::meanStdDev(warped_float_, mean, sd, mask_);
+    if (sd[0] <= 0.0) return -1.0;
+    const double product_mean = cv::mean(warped_float_.mul(current_), mask_)[0];
+    return (product_mean - mean[0] * current_mean_[0]) / (sd[0] * current_sd_);
+  }
+
+ private:
+  cv::Mat oldest_half_;
+  cv::Rect box_;
+  cv::Mat mask_;
+  cv::Mat current_;
+  cv::Scalar current_mean_;
+  double current_sd_ = 0.0;
+  Eigen::Matrix3d box_from_full_;
+  Eigen::Matrix3d half_to_full_;
+  cv::Mat warped_;
+  cv::Mat warped_float_;
+};
+
+// A seed homography (pixels) and its RoadCorrelation.
+struct Seed {
+  Eigen::Matrix3d current_from_oldest_px;
+  double correlation = -1.0;
+};
 
 // Step 1b's second seed (RoadPlaneMotionOptions::max_seed_travel_over_height): the road's
 // homography for straight travel s along the car's forward direction f over the road (unit normal
 // n, pointing down, at the camera's height h), X2 = X1 - s f and n^T X1 = h, so
 // H = I - (s / h) f n^T, with f and n from the guide (else the optical axis and +y) and s / h
-// searched on a grid 5 % apart: the oldest image warped by each and compared with the current one
-// over the road region, both at half resolution. Empty when the search is off or nothing
-// correlates.
-cv::Mat searched_road_homography(const cv::Mat& oldest, const cv::Mat& current,
-                                 const cv::Mat& road_mask, const core::CameraIntrinsics& intrinsics,
-                                 const RoadPlaneMotionOptions& options,
-                                 const std::optional<SequenceGuide>& guide) {
+// searched on a grid 5 % apart for the best RoadCorrelation. nullopt when the search is off or
+// nothing correlates.
+std::optional<Seed> searched_seed(RoadCorrelation& correlation,
+                                  const core::CameraIntrinsics& intrinsics,
+                                  const RoadPlaneMotionOptions& options,
+                                  const std::optional<SequenceGuide>& guide) {
   const double first = std::max(options.min_translation_over_height, 0.05);
-  if (options.max_seed_travel_over_height <= first) return {};
+  if (options.max_seed_travel_over_height <= first) return std::nullopt;
+  const Eigen::Matrix3d camera_matrix = intrinsics.camera_matrix();
   Eigen::Vector3d forward = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d down = Eigen::Vector3d::UnitY();
   if (guide) {
     const std::optional<Eigen::Matrix3d> vehicle_from_camera = vehicle_from_camera_rotation(
-        guide->vanishing_point_px, guide->horizon_line, intrinsics.camera_matrix());
+        guide->vanishing_point_px, guide->horizon_line, camera_matrix);
     if (vehicle_from_camera) {
       const Eigen::Matrix3d optical_from_vehicle =
           (*vehicle_from_camera * body_from_optical()).transpose();
@@ -175,52 +223,22 @@ cv::Mat searched_road_homography(const cv::Mat& oldest, const cv::Mat& current,
       down = -optical_from_vehicle.col(2);
     }
   }
-  cv::Mat oldest_half;
-  cv::Mat current_half;
-  cv::Mat mask_half;
-  cv::pyrDown(oldest, oldest_half);
-  cv::pyrDown(current, current_half);
-  cv::resize(road_mask, mask_half, current_half.size(), 0.0, 0.0, cv::INTER_NEAREST);
-  const cv::Rect box = cv::boundingRect(mask_half);
-  if (box.area() == 0) return {};
-  const cv::Mat current_box = current_half(box);
-  const cv::Mat mask_box = mask_half(box);
-  // Pixel (u, v) of the half image is (2u, 2v) of the whole one.
-  const Eigen::Matrix3d camera_matrix = intrinsics.camera_matrix();
-  Eigen::Matrix3d half_from_full = Eigen::Matrix3d::Identity();
-  half_from_full(0, 0) = half_from_full(1, 1) = 0.5;
-  Eigen::Matrix3d box_from_half = Eigen::Matrix3d::Identity();
-  box_from_half(0, 2) = -box.x;
-  box_from_half(1, 2) = -box.y;
-  const auto pixel_homography = [&](double travel_over_height) {
-    const Eigen::Matrix3d plane =
-        Eigen::Matrix3d::Identity() - travel_over_height * forward * down.transpose();
-    return Eigen::Matrix3d(camera_matrix * plane * camera_matrix.inverse());
-  };
-  const auto to_cv = [](const Eigen::Matrix3d& matrix) {
-    cv::Mat out(3, 3, CV_64F);
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) out.at<double>(r, c) = matrix(r, c);
-    }
-    return out;
+  const Eigen::Matrix3d optical_from_pixel = camera_matrix.inverse();
+  const auto pixel_homography = [&](double log_travel_over_height) {
+    const Eigen::Matrix3d plane = Eigen::Matrix3d::Identity() -
+                                  std::exp(log_travel_over_height) * forward * down.transpose();
+    return Eigen::Matrix3d(camera_matrix * plane * optical_from_pixel);
   };
   const double step = std::log(1.05);
-  const int candidates = static_cast<int>(
-      std::floor(std::log(options.max_seed_travel_over_height / first) / step)) + 1;
-  std::vector<double> scores(static_cast<std::size_t>(candidates), -1.0);
-  cv::Mat warped;
+  const int candidates = static_cast<int>(std::floor(
+                             std::log(options.max_seed_travel_over_height / first) / step)) + 1;
+  std::vector<double> scores(static_cast<std::size_t>(candidates));
   for (int k = 0; k < candidates; ++k) {
-    const Eigen::Matrix3d in_box =
-        box_from_half * half_from_full * pixel_homography(first * std::exp(k * step)) *
-        half_from_full.inverse();
-    cv::warpPerspective(oldest_half, warped, to_cv(in_box), box.size(), cv::INTER_LINEAR,
-                        cv::BORDER_REPLICATE);
-    scores[static_cast<std::size_t>(k)] = masked_correlation(warped, current_box, mask_box);
+    scores[static_cast<std::size_t>(k)] = correlation(pixel_homography(std::log(first) + k * step));
   }
   const auto best = std::max_element(scores.begin(), scores.end());
-  if (*best <= 0.0) return {};
-  const auto k = static_cast<double>(best - scores.begin());
-  // The parabola through the best and its neighbours, in the logarithm of s / h.
+  if (*best <= 0.0) return std::nullopt;
+  // The parabola through the best and its neighbours.
   double offset = 0.0;
   if (best != scores.begin() && best + 1 != scores.end()) {
     const double left = *(best - 1);
@@ -228,7 +246,8 @@ cv::Mat searched_road_homography(const cv::Mat& oldest, const cv::Mat& current,
     const double curvature = left - 2.0 * *best + right;
     if (curvature < 0.0) offset = std::clamp(0.5 * (left - right) / curvature, -0.5, 0.5);
   }
-  return to_cv(pixel_homography(first * std::exp((k + offset) * step)));
+  const double k = static_cast<double>(best - scores.begin()) + offset;
+  return Seed{pixel_homography(std::log(first) + k * step), *best};
 }
 
 // The road region of step 1: below the row of `road_region_depression`, inside the wedge of
@@ -294,25 +313,19 @@ RoadTracks track_road_points(const std::vector<cv::Mat>& greys, const cv::Mat& r
 }
 
 // Step 1 from the searched seed (RoadPlaneMotionOptions::max_seed_travel_over_height): corners
-// down to `seeded_feature_quality`, tracked from where the searched homography puts them through
-// two pyramid levels (the guide's directions are a few tenths of a degree off, the nominal ones a
-// few degrees), then once more through the homography of those tracks, as step 1b. Empty when the
-// search finds nothing.
-RoadTracks track_from_searched_seed(const cv::Mat& oldest, const cv::Mat& current,
-                                    const cv::Mat& road_mask,
-                                    const core::CameraIntrinsics& intrinsics,
-                                    const RoadPlaneMotionOptions& options,
-                                    const std::optional<SequenceGuide>& guide) {
-  const cv::Mat searched =
-      searched_road_homography(oldest, current, road_mask, intrinsics, options, guide);
-  if (searched.empty()) return {};
+// down to `seeded_feature_quality`, tracked from where the seed puts them through two pyramid
+// levels (the guide's directions are a few tenths of a degree off, the nominal ones a few
+// degrees), then once more through the homography of those tracks, as step 1b.
+RoadTracks track_from_seed(const cv::Mat& oldest, const cv::Mat& current, const cv::Mat& road_mask,
+                           const RoadPlaneMotionOptions& options, const Seed& seed) {
   std::vector<cv::Point2f> corners;
   cv::goodFeaturesToTrack(oldest, corners, options.max_features, options.seeded_feature_quality,
                           options.min_feature_distance_px, road_mask);
   if (corners.empty()) return {};
   std::vector<cv::Point2f> points(corners.size());
   std::vector<unsigned char> alive(corners.size(), 0);
-  retrack_through_homography(oldest, current, options, searched, 2, corners, points, alive);
+  retrack_through_homography(oldest, current, options, cv_from_matrix(seed.current_from_oldest_px),
+                             2, corners, points, alive);
   const cv::Mat refined = homography_of_live_tracks(options, corners, points, alive);
   if (!refined.empty()) {
     retrack_through_homography(oldest, current, options, refined, 1, corners, points, alive);
@@ -350,10 +363,15 @@ std::optional<PlaneMotion> decompose(const cv::Mat& homography,
 
 }  // namespace
 
-FrameEstimate road_plane_from_tracks(const std::vector<Eigen::Vector2d>& previous_px,
-                                     const std::vector<Eigen::Vector2d>& current_px,
-                                     const core::CameraIntrinsics& intrinsics,
-                                     const RoadPlaneMotionOptions& options) {
+namespace {
+
+// Steps 2-5 (road_plane_from_tracks); when the estimate is usable, `current_from_oldest_px` is set
+// to the road's homography in pixels (K H K^-1, ignoring the lens's distortion).
+FrameEstimate fit_plane_to_tracks(const std::vector<Eigen::Vector2d>& previous_px,
+                                  const std::vector<Eigen::Vector2d>& current_px,
+                                  const core::CameraIntrinsics& intrinsics,
+                                  const RoadPlaneMotionOptions& options,
+                                  Eigen::Matrix3d& current_from_oldest_px) {
   const std::size_t count = std::min(previous_px.size(), current_px.size());
   if (count < static_cast<std::size_t>(std::max(options.min_inliers, 8))) {
     FrameEstimate rejected = rejected_frame(FrameRejection::kTooFewTracks);
@@ -438,7 +456,18 @@ FrameEstimate road_plane_from_tracks(const std::vector<Eigen::Vector2d>& previou
     sum_squared += miss.squaredNorm();
   }
   estimate.road_residual_rms = std::sqrt(sum_squared / inliers);
+  current_from_oldest_px = camera_matrix * h * camera_matrix.inverse();
   return estimate;
+}
+
+}  // namespace
+
+FrameEstimate road_plane_from_tracks(const std::vector<Eigen::Vector2d>& previous_px,
+                                     const std::vector<Eigen::Vector2d>& current_px,
+                                     const core::CameraIntrinsics& intrinsics,
+                                     const RoadPlaneMotionOptions& options) {
+  Eigen::Matrix3d unused;
+  return fit_plane_to_tracks(previous_px, current_px, intrinsics, options, unused);
 }
 
 namespace {
@@ -459,25 +488,37 @@ std::optional<FrameRejection> grey_frames(const std::vector<cv::Mat>& frames,
   return std::nullopt;
 }
 
-// Steps 1-5, from the tracked seed and, when that gives no road plane (other than for too little
-// motion), from the searched one; `used` receives the tracks of the estimate returned.
+// Steps 1-5 from the tracked seed, and from the searched one (max_seed_travel_over_height) when
+// the search's seed maps the road better than the tracked fit does (or that gave no road plane):
+// at highway speed the first tracks give no homography, or a wrong one that the second tracking
+// then follows. Of the two fits the one whose homography maps the road better is kept; `used`
+// receives the tracks of the estimate returned.
 FrameEstimate fit_road_plane(const std::vector<cv::Mat>& greys,
                              const core::CameraIntrinsics& intrinsics,
                              const RoadPlaneMotionOptions& options,
                              const std::optional<SequenceGuide>& guide, RoadTracks& used) {
-  const cv::Mat mask = road_region_mask(greys.front().size(), intrinsics, options);
+  const cv::Mat& oldest = greys.front();
+  const cv::Mat& current = greys.back();
+  const cv::Mat mask = road_region_mask(oldest.size(), intrinsics, options);
   used = track_road_points(greys, mask, options);
+  Eigen::Matrix3d tracked_homography;
   FrameEstimate estimate =
-      road_plane_from_tracks(used.oldest_px, used.current_px, intrinsics, options);
-  if (estimate.usable() || !options.prewarp || options.max_seed_travel_over_height <= 0.0 ||
+      fit_plane_to_tracks(used.oldest_px, used.current_px, intrinsics, options, tracked_homography);
+  if (!options.prewarp || options.max_seed_travel_over_height <= 0.0 ||
       estimate.rejection == FrameRejection::kTooLittleMotion) {
     return estimate;
   }
-  RoadTracks searched =
-      track_from_searched_seed(greys.front(), greys.back(), mask, intrinsics, options, guide);
-  FrameEstimate from_search =
-      road_plane_from_tracks(searched.oldest_px, searched.current_px, intrinsics, options);
-  if (!from_search.usable()) return estimate;
+  RoadCorrelation correlation(oldest, current, mask);
+  const std::optional<Seed> seed = searched_seed(correlation, intrinsics, options, guide);
+  if (!seed) return estimate;
+  const double tracked_correlation = estimate.usable() ? correlation(tracked_homography) : -1.0;
+  RoadTracks searched = track_from_seed(oldest, current, mask, options, *seed);
+  Eigen::Matrix3d searched_homography;
+  FrameEstimate from_search = fit_plane_to_tracks(searched.oldest_px, searched.current_px,
+                                                  intrinsics, options, searched_homography);
+  if (!from_search.usable() || tracked_correlation >= correlation(searched_homography)) {
+    return estimate;
+  }
   used = std::move(searched);
   return from_search;
 }
