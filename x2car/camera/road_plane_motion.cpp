@@ -202,7 +202,7 @@ struct Seed {
 // homography for straight travel s along the car's forward direction f over the road (unit normal
 // n, pointing down, at the camera's height h), X2 = X1 - s f and n^T X1 = h, so
 // H = I - (s / h) f n^T, with f and n from the guide (else the optical axis and +y) and s / h
-// searched on a grid 5 % apart for the best RoadCorrelation. nullopt when the search is off or
+// searched on a grid 5 % apart for the best RoadCorrelation (refined by a parabola). nullopt when the search is off or
 // nothing correlates.
 std::optional<Seed> searched_seed(RoadCorrelation& correlation,
                                   const core::CameraIntrinsics& intrinsics,
@@ -290,12 +290,10 @@ RoadTracks live_tracks(const std::vector<cv::Point2f>& corners,
 
 // Step 1: Shi-Tomasi corners in the road region of the oldest frame, tracked frame by frame into
 // the current one, then (prewarp) again through the homography of those tracks.
-RoadTracks track_road_points(const std::vector<cv::Mat>& greys, const cv::Mat& road_mask,
+RoadTracks track_road_points(const std::vector<cv::Mat>& greys,
+                             const std::vector<cv::Point2f>& corners,
                              const RoadPlaneMotionOptions& options) {
   const cv::Mat& oldest = greys.front();
-  std::vector<cv::Point2f> corners;
-  cv::goodFeaturesToTrack(oldest, corners, options.max_features, options.feature_quality,
-                          options.min_feature_distance_px, road_mask);
   if (corners.empty()) return {};
   std::vector<cv::Point2f> points = corners;
   std::vector<unsigned char> alive(points.size(), 1);
@@ -313,14 +311,12 @@ RoadTracks track_road_points(const std::vector<cv::Mat>& greys, const cv::Mat& r
 }
 
 // Step 1 from the searched seed (RoadPlaneMotionOptions::max_seed_travel_over_height): corners
-// down to `seeded_feature_quality`, tracked from where the seed puts them through two pyramid
+// (down to `seeded_feature_quality`) tracked from where the seed puts them through two pyramid
 // levels (the guide's directions are a few tenths of a degree off, the nominal ones a few
 // degrees), then once more through the homography of those tracks, as step 1b.
-RoadTracks track_from_seed(const cv::Mat& oldest, const cv::Mat& current, const cv::Mat& road_mask,
+RoadTracks track_from_seed(const cv::Mat& oldest, const cv::Mat& current,
+                           const std::vector<cv::Point2f>& corners,
                            const RoadPlaneMotionOptions& options, const Seed& seed) {
-  std::vector<cv::Point2f> corners;
-  cv::goodFeaturesToTrack(oldest, corners, options.max_features, options.seeded_feature_quality,
-                          options.min_feature_distance_px, road_mask);
   if (corners.empty()) return {};
   std::vector<cv::Point2f> points(corners.size());
   std::vector<unsigned char> alive(corners.size(), 0);
@@ -500,7 +496,20 @@ FrameEstimate fit_road_plane(const std::vector<cv::Mat>& greys,
   const cv::Mat& oldest = greys.front();
   const cv::Mat& current = greys.back();
   const cv::Mat mask = road_region_mask(oldest.size(), intrinsics, options);
-  used = track_road_points(greys, mask, options);
+  // The corners down to the weaker of the two qualities, strongest first: those of the tracked
+  // seed (feature_quality) are a prefix of them (goodFeaturesToTrack's order and suppression).
+  std::vector<cv::Point2f> corners;
+  std::vector<float> corner_quality;
+  cv::goodFeaturesToTrack(oldest, corners, options.max_features,
+                          std::min(options.feature_quality, options.seeded_feature_quality),
+                          options.min_feature_distance_px, mask, corner_quality);
+  const auto strong_end = std::find_if(
+      corner_quality.begin(), corner_quality.end(), [&](float quality) {
+        return quality < options.feature_quality * corner_quality.front();
+      });
+  const std::vector<cv::Point2f> strong_corners(
+      corners.begin(), corners.begin() + (strong_end - corner_quality.begin()));
+  used = track_road_points(greys, strong_corners, options);
   Eigen::Matrix3d tracked_homography;
   FrameEstimate estimate =
       fit_plane_to_tracks(used.oldest_px, used.current_px, intrinsics, options, tracked_homography);
@@ -512,7 +521,8 @@ FrameEstimate fit_road_plane(const std::vector<cv::Mat>& greys,
   const std::optional<Seed> seed = searched_seed(correlation, intrinsics, options, guide);
   if (!seed) return estimate;
   const double tracked_correlation = estimate.usable() ? correlation(tracked_homography) : -1.0;
-  RoadTracks searched = track_from_seed(oldest, current, mask, options, *seed);
+  if (options.seeded_feature_quality > options.feature_quality) corners = strong_corners;
+  RoadTracks searched = track_from_seed(oldest, current, corners, options, *seed);
   Eigen::Matrix3d searched_homography;
   FrameEstimate from_search = fit_plane_to_tracks(searched.oldest_px, searched.current_px,
                                                   intrinsics, options, searched_homography);

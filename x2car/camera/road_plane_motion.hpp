@@ -14,7 +14,12 @@
 //   1. corners (Shi-Tomasi) in the lower part of the oldest image, where the road is, tracked
 //      frame by frame into the current one by pyramidal Lucas-Kanade, forward and back (a track
 //      that does not come back to its start within `max_forward_backward_px` is dropped): the
-//      steps stay small for the tracker while the baseline, and so the parallax, grows;
+//      steps stay small for the tracker while the baseline, and so the parallax, grows; then
+//      (prewarp) tracked again from where the homography of those tracks puts them; and, beside
+//      that, from where a searched homography of straight travel puts them (the road's
+//      correlation over the one unknown travel over height: at highway speed the first tracks
+//      give no homography or a wrong one). Of the two fits, the one whose homography maps the
+//      oldest image's road onto the current one better is kept;
 //   2. the tracks undistorted (core::undistort_pixel) and normalised by K;
 //   3. the plane's homography by RANSAC (the points not on the road: kerbs, sidewalks, cars, are
 //      its outliers), refined by least squares on the inliers (OpenCV findHomography);
@@ -122,10 +127,10 @@ FrameEstimate estimate_road_plane_motion(const std::vector<cv::Mat>& frames,
                                          const RoadPlaneMotionOptions& options = {},
                                          const std::optional<SequenceGuide>& guide = std::nullopt);
 
-// Step 1 alone (with its second tracking when `prewarp`): the tracks estimate_road_plane_motion
-// fits, in distorted pixels of the oldest frame and of the current one, as many of each; none when
-// a frame is empty or of another size than the intrinsics'. For studies of the tracker
-// (bench/camera_track_study.cpp).
+// Step 1 alone: the tracks of the estimate estimate_road_plane_motion makes (the second tracking's
+// when `prewarp`, from the searched seed where that fit maps the road better), in distorted pixels
+// of the oldest frame and of the current one, as many of each; none when a frame is empty or of
+// another size than the intrinsics'. For studies of the tracker (bench/camera_track_study.cpp).
 struct RoadTracks {
   std::vector<Eigen::Vector2d> oldest_px;
   std::vector<Eigen::Vector2d> current_px;
