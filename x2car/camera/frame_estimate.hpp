@@ -115,8 +115,8 @@ struct SequenceGuide {
 // A per-frame estimator that needs the frames before it as well (the motion estimator): the
 // frames oldest first, the current one last, whose estimate it returns, and a guess of that
 // frame's geometry when there is one. The same rules as FrameEstimator.
-using SequenceEstimator = std::function<FrameEstimate(
-    const std::vector<cv::Mat>& frames, const core::CameraIntrinsics& intrinsics,
-    const std::optional<SequenceGuide>& guide)>;
+using SequenceEstimator = std::function<FrameEstimate(const std::vector<cv::Mat>& frames,
+                                                      const core::CameraIntrinsics& intrinsics,
+                                                      const std::optional<SequenceGuide>& guide)>;
 
 }  // namespace x2car::camera

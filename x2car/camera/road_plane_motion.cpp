@@ -202,8 +202,8 @@ struct Seed {
 // homography for straight travel s along the car's forward direction f over the road (unit normal
 // n, pointing down, at the camera's height h), X2 = X1 - s f and n^T X1 = h, so
 // H = I - (s / h) f n^T, with f and n from the guide (else the optical axis and +y) and s / h
-// searched on a grid 5 % apart for the best RoadCorrelation (refined by a parabola). nullopt when the search is off or
-// nothing correlates.
+// searched on a grid 5 % apart for the best RoadCorrelation (refined by a parabola). nullopt when
+// the search is off or nothing correlates.
 std::optional<Seed> searched_seed(RoadCorrelation& correlation,
                                   const core::CameraIntrinsics& intrinsics,
                                   const RoadPlaneMotionOptions& options,
@@ -214,8 +214,8 @@ std::optional<Seed> searched_seed(RoadCorrelation& correlation,
   Eigen::Vector3d forward = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d down = Eigen::Vector3d::UnitY();
   if (guide) {
-    const std::optional<Eigen::Matrix3d> vehicle_from_camera = vehicle_from_camera_rotation(
-        guide->vanishing_point_px, guide->horizon_line, camera_matrix);
+    const std::optional<Eigen::Matrix3d> vehicle_from_camera =
+        vehicle_from_camera_rotation(guide->vanishing_point_px, guide->horizon_line, camera_matrix);
     if (vehicle_from_camera) {
       const Eigen::Matrix3d optical_from_vehicle =
           (*vehicle_from_camera * body_from_optical()).transpose();
@@ -225,13 +225,14 @@ std::optional<Seed> searched_seed(RoadCorrelation& correlation,
   }
   const Eigen::Matrix3d optical_from_pixel = camera_matrix.inverse();
   const auto pixel_homography = [&](double log_travel_over_height) {
-    const Eigen::Matrix3d plane = Eigen::Matrix3d::Identity() -
-                                  std::exp(log_travel_over_height) * forward * down.transpose();
+    const Eigen::Matrix3d plane =
+        Eigen::Matrix3d::Identity() - std::exp(log_travel_over_height) * forward * down.transpose();
     return Eigen::Matrix3d(camera_matrix * plane * optical_from_pixel);
   };
   const double step = std::log(1.05);
-  const int candidates = static_cast<int>(std::floor(
-                             std::log(options.max_seed_travel_over_height / first) / step)) + 1;
+  const int candidates =
+      static_cast<int>(std::floor(std::log(options.max_seed_travel_over_height / first) / step)) +
+      1;
   std::vector<double> scores(static_cast<std::size_t>(candidates));
   for (int k = 0; k < candidates; ++k) {
     scores[static_cast<std::size_t>(k)] = correlation(pixel_homography(std::log(first) + k * step));
@@ -484,11 +485,11 @@ std::optional<FrameRejection> grey_frames(const std::vector<cv::Mat>& frames,
   return std::nullopt;
 }
 
-// Steps 1-5 from the tracked seed, and from the searched one (max_seed_travel_over_height) when
-// the search's seed maps the road better than the tracked fit does (or that gave no road plane):
-// at highway speed the first tracks give no homography, or a wrong one that the second tracking
-// then follows. Of the two fits the one whose homography maps the road better is kept; `used`
-// receives the tracks of the estimate returned.
+// Steps 1-5 from the tracked seed and from the searched one (max_seed_travel_over_height): at
+// highway speed the first tracks give no homography, or a wrong one that the second tracking then
+// follows, and its fit can be usable yet wrong; only the comparison tells. Of the two fits the one
+// whose homography maps the road better (RoadCorrelation) is kept; `used` receives the tracks of
+// the estimate returned.
 FrameEstimate fit_road_plane(const std::vector<cv::Mat>& greys,
                              const core::CameraIntrinsics& intrinsics,
                              const RoadPlaneMotionOptions& options,
@@ -504,9 +505,8 @@ FrameEstimate fit_road_plane(const std::vector<cv::Mat>& greys,
                           std::min(options.feature_quality, options.seeded_feature_quality),
                           options.min_feature_distance_px, mask, corner_quality);
   const auto strong_end = std::find_if(
-      corner_quality.begin(), corner_quality.end(), [&](float quality) {
-        return quality < options.feature_quality * corner_quality.front();
-      });
+      corner_quality.begin(), corner_quality.end(),
+      [&](float quality) { return quality < options.feature_quality * corner_quality.front(); });
   const std::vector<cv::Point2f> strong_corners(
       corners.begin(), corners.begin() + (strong_end - corner_quality.begin()));
   used = track_road_points(greys, strong_corners, options);

@@ -200,8 +200,8 @@ TEST(RoadPlaneMotion, AtHighwaySpeedTheSearchedSeedFindsTheRoad) {
   for (const double start : {0.0, 7.3, 14.6}) {
     const std::vector<cv::Mat> frames{road_picture(mounting, intrinsics, start),
                                       road_picture(mounting, intrinsics, start + 3.0)};
-    for (const std::optional<SequenceGuide>& given : {std::optional<SequenceGuide>(guide),
-                                                      std::optional<SequenceGuide>()}) {
+    for (const std::optional<SequenceGuide>& given :
+         {std::optional<SequenceGuide>(guide), std::optional<SequenceGuide>()}) {
       const FrameEstimate estimate = estimate_road_plane_motion(frames, intrinsics, {}, given);
       const std::string where = fmt::format("after {} m, {}", start, given ? "guided" : "unguided");
       ASSERT_TRUE(estimate.usable()) << to_string(*estimate.rejection) << " " << where;
