@@ -80,16 +80,17 @@ struct RoadPlaneMotionOptions {
   // on rendered drives its errors were one-sided and tilted the plane by +0.4 deg in roll
   // (docs/methods.md). After the warp what is left to track is a small shift.
   bool prewarp = true;
-  // When the tracks leave no homography to track again through (fewer than `min_inliers` live
-  // after it), a second seed: a search over the one unknown of straight driving, the travel over
-  // the camera's height |t| / d, between `min_translation_over_height` and this. For each
-  // candidate the oldest image is warped by the road's homography (the car's forward direction
-  // and the road's normal from the guide when one is given, else from a level camera looking
-  // straight ahead) and
-  // compared with the current one over the road region (correlation, at half resolution); the
-  // best seeds the second tracking. At highway speed (2.5-3 m between frames at 10 Hz, up to
-  // twice the camera's height) the road near the car moves by 50-100 px and stretches by a third,
-  // which Lucas-Kanade from an unwarped window does not follow. 0: no search.
+  // With `prewarp`, a second seed beside the tracks' homography: a search over the one unknown of
+  // straight driving, the travel over the camera's height |t| / d, between
+  // `min_translation_over_height` and this. For each candidate the oldest image is warped by the
+  // road's homography (the car's forward direction and the road's normal from the guide when one
+  // is given, else from a level camera looking straight ahead) and compared with the current one
+  // over the road region (correlation, at half resolution); the best seeds a second tracking, and
+  // of the two fits the one whose homography correlates better is kept. At highway speed (2.5-3 m
+  // between frames at 10 Hz, up to twice the camera's height) the road near the car moves by
+  // 50-100 px and stretches by a third: the first tracks then give no homography, or a wrong one
+  // that the second tracking follows (0.2-0.8 deg of roll on the tests' pairs 3 m apart). 0: no
+  // search.
   double max_seed_travel_over_height = 3.0;
   // The corners tracked from the searched seed: weaker ones than `feature_quality` (0.0003: on a
   // highway the lane paint's corners set the scale, and only ~50 asphalt corners a frame pass
