@@ -5,6 +5,7 @@
 #include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
+#include <opencv2/core/eigen.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 #include <vector>
@@ -36,14 +37,6 @@ void RoadPlaneMotionOptions::Check() const {
 }
 
 namespace {
-
-Eigen::Matrix3d from_cv(const cv::Mat& matrix) {
-  Eigen::Matrix3d out;
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) out(r, c) = matrix.at<double>(r, c);
-  }
-  return out;
-}
 
 Eigen::Vector3d vector_from_cv(const cv::Mat& vector) {
   return {vector.at<double>(0), vector.at<double>(1), vector.at<double>(2)};
@@ -97,13 +90,12 @@ cv::Mat homography_of_live_tracks(const RoadPlaneMotionOptions& options,
 // Step 1b (RoadPlaneMotionOptions::prewarp): the oldest image warped by `homography` (pixels) into
 // the current one's view, and each corner tracked again from its predicted place, forward and
 // back, through `levels` pyramid levels above the image. Through a lens with distortion the
-// pixels' homography is only a prediction; the second tracking absorbs the rest. Returns how many
-// tracks are alive.
-int retrack_through_homography(const cv::Mat& oldest, const cv::Mat& current,
-                               const RoadPlaneMotionOptions& options, const cv::Mat& homography,
-                               int levels, const std::vector<cv::Point2f>& corners,
-                               std::vector<cv::Point2f>& points,
-                               std::vector<unsigned char>& alive) {
+// pixels' homography is only a prediction; the second tracking absorbs the rest.
+void retrack_through_homography(const cv::Mat& oldest, const cv::Mat& current,
+                                const RoadPlaneMotionOptions& options, const cv::Mat& homography,
+                                int levels, const std::vector<cv::Point2f>& corners,
+                                std::vector<cv::Point2f>& points,
+                                std::vector<unsigned char>& alive) {
   cv::Mat warped;
   cv::warpPerspective(oldest, warped, homography, oldest.size(), cv::INTER_LINEAR);
   std::vector<cv::Point2f> predicted;
@@ -120,7 +112,6 @@ int retrack_through_homography(const cv::Mat& oldest, const cv::Mat& current,
   cv::calcOpticalFlowPyrLK(current, warped, tracked, back, back_ok, errors, window, levels,
                            criteria);
   const double max_miss_squared = options.max_forward_backward_px * options.max_forward_backward_px;
-  int live = 0;
   for (std::size_t i = 0; i < corners.size(); ++i) {
     const cv::Point2f miss = back[i] - predicted[i];
     const cv::Point2f& p = tracked[i];
@@ -128,17 +119,7 @@ int retrack_through_homography(const cv::Mat& oldest, const cv::Mat& current,
                p.y >= 0.0f && p.x <= static_cast<float>(current.cols - 1) &&
                p.y <= static_cast<float>(current.rows - 1);
     points[i] = p;
-    live += alive[i];
   }
-  return live;
-}
-
-cv::Mat cv_from_matrix(const Eigen::Matrix3d& matrix) {
-  cv::Mat out(3, 3, CV_64F);
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) out.at<double>(r, c) = matrix(r, c);
-  }
-  return out;
 }
 
 // How well a homography (pixels) maps the oldest image onto the current one over the road region:
@@ -168,8 +149,9 @@ class RoadCorrelation {
   double operator()(const Eigen::Matrix3d& current_from_oldest_px) {
     if (box_.area() == 0 || current_sd_ <= 0.0) return -1.0;
     const Eigen::Matrix3d in_box = box_from_full_ * current_from_oldest_px * half_to_full_;
-    cv::warpPerspective(oldest_half_, warped_, cv_from_matrix(in_box), box_.size(),
-                        cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+    cv::eigen2cv(in_box, in_box_cv_);
+    cv::warpPerspective(oldest_half_, warped_, in_box_cv_, box_.size(), cv::INTER_LINEAR,
+                        cv::BORDER_REPLICATE);
     warped_.convertTo(warped_float_, CV_32F);
     cv::Scalar mean;
     cv::Scalar sd;
@@ -188,14 +170,9 @@ class RoadCorrelation {
   double current_sd_ = 0.0;
   Eigen::Matrix3d box_from_full_;
   Eigen::Matrix3d half_to_full_;
+  cv::Mat in_box_cv_;
   cv::Mat warped_;
   cv::Mat warped_float_;
-};
-
-// A seed homography (pixels) and its RoadCorrelation.
-struct Seed {
-  Eigen::Matrix3d current_from_oldest_px;
-  double correlation = -1.0;
 };
 
 // Step 1b's second seed (RoadPlaneMotionOptions::max_seed_travel_over_height): the road's
@@ -204,10 +181,10 @@ struct Seed {
 // H = I - (s / h) f n^T, with f and n from the guide (else the optical axis and +y) and s / h
 // searched on a grid 5 % apart for the best RoadCorrelation (refined by a parabola). nullopt when
 // the search is off or nothing correlates.
-std::optional<Seed> searched_seed(RoadCorrelation& correlation,
-                                  const core::CameraIntrinsics& intrinsics,
-                                  const RoadPlaneMotionOptions& options,
-                                  const std::optional<SequenceGuide>& guide) {
+std::optional<Eigen::Matrix3d> searched_seed(RoadCorrelation& correlation,
+                                             const core::CameraIntrinsics& intrinsics,
+                                             const RoadPlaneMotionOptions& options,
+                                             const std::optional<SequenceGuide>& guide) {
   const double first = std::max(options.min_translation_over_height, 0.05);
   if (options.max_seed_travel_over_height <= first) return std::nullopt;
   const Eigen::Matrix3d camera_matrix = intrinsics.camera_matrix();
@@ -248,7 +225,7 @@ std::optional<Seed> searched_seed(RoadCorrelation& correlation,
     if (curvature < 0.0) offset = std::clamp(0.5 * (left - right) / curvature, -0.5, 0.5);
   }
   const double k = static_cast<double>(best - scores.begin()) + offset;
-  return Seed{pixel_homography(std::log(first) + k * step), *best};
+  return pixel_homography(std::log(first) + k * step);
 }
 
 // The road region of step 1: below the row of `road_region_depression`, inside the wedge of
@@ -317,12 +294,13 @@ RoadTracks track_road_points(const std::vector<cv::Mat>& greys,
 // degrees), then once more through the homography of those tracks, as step 1b.
 RoadTracks track_from_seed(const cv::Mat& oldest, const cv::Mat& current,
                            const std::vector<cv::Point2f>& corners,
-                           const RoadPlaneMotionOptions& options, const Seed& seed) {
+                           const RoadPlaneMotionOptions& options, const Eigen::Matrix3d& seed_px) {
   if (corners.empty()) return {};
   std::vector<cv::Point2f> points(corners.size());
   std::vector<unsigned char> alive(corners.size(), 0);
-  retrack_through_homography(oldest, current, options, cv_from_matrix(seed.current_from_oldest_px),
-                             2, corners, points, alive);
+  cv::Mat seed;
+  cv::eigen2cv(seed_px, seed);
+  retrack_through_homography(oldest, current, options, seed, 2, corners, points, alive);
   const cv::Mat refined = homography_of_live_tracks(options, corners, points, alive);
   if (!refined.empty()) {
     retrack_through_homography(oldest, current, options, refined, 1, corners, points, alive);
@@ -350,7 +328,8 @@ std::optional<PlaneMotion> decompose(const cv::Mat& homography,
     const Eigen::Vector3d normal = vector_from_cv(normals[i]).normalized();
     if (!normal.allFinite()) continue;
     if (best && normal.y() <= best->normal.y()) continue;
-    best = PlaneMotion{from_cv(rotations[i]), vector_from_cv(translations[i]), normal};
+    best = PlaneMotion{Eigen::Matrix3d::Zero(), vector_from_cv(translations[i]), normal};
+    cv::cv2eigen(rotations[i], best->rotation);
   }
   if (!best || std::acos(std::clamp(best->normal.y(), -1.0, 1.0)) > options.max_normal_tilt) {
     return std::nullopt;
@@ -442,7 +421,8 @@ FrameEstimate fit_plane_to_tracks(const std::vector<Eigen::Vector2d>& previous_p
   estimate.horizon_source = HorizonSource::kRoadPlaneMotion;
   estimate.quality = static_cast<double>(inliers) / static_cast<double>(count);
   // RMS transfer error of the inliers [rad at the image centre, like the geometric residual].
-  const Eigen::Matrix3d h = from_cv(homography);
+  Eigen::Matrix3d h;
+  cv::cv2eigen(homography, h);
   double sum_squared = 0.0;
   for (std::size_t i = 0; i < count; ++i) {
     if (!inlier_mask[i]) continue;
@@ -518,7 +498,8 @@ FrameEstimate fit_road_plane(const std::vector<cv::Mat>& greys,
     return estimate;
   }
   RoadCorrelation correlation(oldest, current, mask);
-  const std::optional<Seed> seed = searched_seed(correlation, intrinsics, options, guide);
+  const std::optional<Eigen::Matrix3d> seed =
+      searched_seed(correlation, intrinsics, options, guide);
   if (!seed) return estimate;
   const double tracked_correlation = estimate.usable() ? correlation(tracked_homography) : -1.0;
   if (options.seeded_feature_quality > options.feature_quality) corners = strong_corners;
