@@ -136,6 +136,7 @@ FrameEstimate combine(const FrameEstimate& lines, const FrameEstimate& road) {
   if (lines.usable() && road.usable()) {
     combined.road_plane_horizon_line = road.horizon_line;
     combined.road_plane_vanishing_point_px = road.road_vanishing_point_px;
+    combined.pair_motion = road.pair_motion;
   }
   return combined;
 }
@@ -185,7 +186,15 @@ void estimate_frame(const CameraFrameSource& frames, const core::CameraIntrinsic
     const std::optional<EulerAngles> with_travel = vehicle_from_camera_angles(
         *estimate.road_plane_vanishing_point_px, *estimate.road_plane_horizon_line, camera_matrix);
     if (with_lines && with_travel) {
-      record.road_plane = RoadPlaneAngles{with_lines->roll, with_travel->pitch};
+      record.road_plane =
+          RoadPlaneAngles{with_lines->roll, with_travel->pitch, with_travel->yaw, std::nullopt};
+      if (estimate.pair_motion) {
+        const auto span = static_cast<std::size_t>(options.motion.tracked_frames);
+        const double pair_s = frames.times[index] - frames.times[index + 1 - span];
+        record.road_plane->motion =
+            ImageMotion{.yaw_rate = estimate.pair_motion->turn_about_up / pair_s,
+                        .speed_over_height = estimate.pair_motion->travel_over_height / pair_s};
+      }
     }
   }
 }
@@ -274,6 +283,9 @@ void write_series(const CameraFrameSource& frames, const std::vector<FrameRecord
   Series quality{"frame_quality", "", {}, {}};
   Series road_plane_roll{"frame_road_plane_roll", "rad", {}, {}};
   Series road_plane_pitch{"frame_road_plane_pitch", "rad", {}, {}};
+  Series road_plane_yaw{"frame_road_plane_yaw", "rad", {}, {}};
+  Series image_yaw_rate{"frame_image_yaw_rate", "rad/s", {}, {}};
+  Series image_speed_over_height{"frame_image_speed_over_height", "1/s", {}, {}};
   Series in_window{"in_window", "", frames.times, std::vector<double>(frames.times.size(), 0.0)};
   for (const FilterWindow& window : filter.windows()) {
     for (std::size_t i = window.first_frame; i <= window.last_frame; ++i) in_window.value[i] = 1.0;
@@ -296,6 +308,11 @@ void write_series(const CameraFrameSource& frames, const std::vector<FrameRecord
     if (record.road_plane) {
       push(road_plane_roll, record.road_plane->roll);
       push(road_plane_pitch, record.road_plane->pitch);
+      push(road_plane_yaw, record.road_plane->yaw);
+      if (record.road_plane->motion) {
+        push(image_yaw_rate, record.road_plane->motion->yaw_rate);
+        push(image_speed_over_height, record.road_plane->motion->speed_over_height);
+      }
     }
   }
   for (Series* series : {&vp_u, &vp_v, &horizon, &roll, &pitch, &yaw, &quality, &in_window}) {
@@ -304,6 +321,11 @@ void write_series(const CameraFrameSource& frames, const std::vector<FrameRecord
   if (!road_plane_roll.time.empty()) {
     result.series.push_back(std::move(road_plane_roll));
     result.series.push_back(std::move(road_plane_pitch));
+    result.series.push_back(std::move(road_plane_yaw));
+  }
+  if (!image_yaw_rate.time.empty()) {
+    result.series.push_back(std::move(image_yaw_rate));
+    result.series.push_back(std::move(image_speed_over_height));
   }
 }
 
@@ -345,6 +367,12 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
   result.support["longest_stretch"] = static_cast<std::int64_t>(filter.longest_stretch());
   result.support["windows"] = static_cast<std::int64_t>(estimate.windows);
   result.support["frames_in_windows"] = static_cast<std::int64_t>(estimate.frames_in_windows);
+  if (estimate.windows_refused_turning + estimate.windows_refused_accelerating > 0) {
+    result.support["windows_refused_turning"] =
+        static_cast<std::int64_t>(estimate.windows_refused_turning);
+    result.support["windows_refused_accelerating"] =
+        static_cast<std::int64_t>(estimate.windows_refused_accelerating);
+  }
   count_frames(records, verdicts, result);
   if (options.keep_series) write_series(frames, records, filter, result);
   const std::optional<std::string> read_error = first_read_error(records);
@@ -395,10 +423,19 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
     result.pitch_std = std::hypot(*result.pitch_std, options.unknown_motion_pitch_floor);
     result.diagnostics["unknown_motion_pitch_floor_deg"] =
         deg_from_rad(options.unknown_motion_pitch_floor);
-    append_reason(result, fmt::format("pitch without the car's motion (--ins): a steady "
-                                      "acceleration pitches the body, and its standard error "
-                                      "includes {:.2g} deg for it",
-                                      deg_from_rad(options.unknown_motion_pitch_floor)));
+    if (estimate.motion_known_windows == estimate.windows) {
+      append_reason(result,
+                    fmt::format("pitch without the car's motion (--ins): the images' motion gated "
+                                "accelerations (read at an assumed camera height of {:.2g} m), and "
+                                "the pitch's standard error includes {:.2g} deg for what they miss",
+                                options.filter.image_motion_camera_height_m,
+                                deg_from_rad(options.unknown_motion_pitch_floor)));
+    } else {
+      append_reason(result, fmt::format("pitch without the car's motion (--ins): a steady "
+                                        "acceleration pitches the body, and its standard error "
+                                        "includes {:.2g} deg for it",
+                                        deg_from_rad(options.unknown_motion_pitch_floor)));
+    }
   }
   result.yaw_std = estimate.standard_error.yaw;
   const EulerAngles spread = window_spread(filter.windows());

@@ -83,7 +83,9 @@ struct CameraCalibrationOptions {
   // (passenger cars: 1-2 deg per g of longitudinal acceleration), and a window held through a
   // steady acceleration is steady, so it passes with that pitch and no spread shows it. 0.15 deg is
   // 1 m/s^2 (0.1 g) held through a window at 1.5 deg per g [rad]. With the motion known those
-  // frames are gated (`accelerating`) and it is not added.
+  // frames are gated (`accelerating`) and it is not added. Under auto the images' motion gates
+  // whole windows (TemporalFilterOptions::max_window_yaw_rate), but it reads the acceleration at
+  // an assumed camera height, and it is still added.
   double unknown_motion_pitch_floor = rad_from_deg(0.15);
   // A frame whose `read` throws InputError (a truncated or corrupt image) is skipped and counted
   // (rejections["unreadable_image"], the first message in `reason`). Off: the InputError ends the

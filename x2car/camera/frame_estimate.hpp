@@ -62,6 +62,17 @@ enum class HorizonSource {
   kNetwork,                 // the learned network's (camera_net/learned_estimator.hpp)
 };
 
+// The motion estimator's: how the camera moved between the oldest frame of its pair and the
+// current one (road_plane_motion.hpp). What the car did, seen from the images alone: the image
+// motion gate of the temporal filter reads it when no GNSS/INS log gives the car's motion.
+struct CameraPairMotion {
+  // The camera's turn about the road's normal, left (counter-clockwise seen from above) positive:
+  // the car's yaw over the pair [rad].
+  double turn_about_up = 0.0;
+  // The distance travelled over the camera's height above the road, |t| / d.
+  double travel_over_height = 0.0;
+};
+
 struct FrameEstimate {
   // Set when the frame is unusable; the geometry below is then meaningless.
   std::optional<FrameRejection> rejection;
@@ -79,6 +90,8 @@ struct FrameEstimate {
   // are averaged over the steady windows rather than tested (temporal_filter.hpp).
   std::optional<Eigen::Vector3d> road_plane_horizon_line;
   std::optional<Eigen::Vector2d> road_plane_vanishing_point_px;  // [undistorted px]
+  // The motion estimator's, and auto's beside the two above: the camera's motion over the pair.
+  std::optional<CameraPairMotion> pair_motion;
 
   // How much of the image's line evidence agrees, in [0, 1]: the share of the segments' length
   // that supports the two vanishing points used. A heuristic for plots and gating, not a variance.

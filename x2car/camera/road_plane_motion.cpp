@@ -419,6 +419,11 @@ FrameEstimate fit_plane_to_tracks(const std::vector<Eigen::Vector2d>& previous_p
   estimate.road_vanishing_point_px = vanishing.head<2>() / vanishing.z();
   estimate.horizon_line = *horizon;
   estimate.horizon_source = HorizonSource::kRoadPlaneMotion;
+  // The camera turned by R^T, whose rotation vector is -angle * axis; up is -n (in either frame:
+  // the axis is R's fixed direction, so its component along n does not depend on the frame).
+  estimate.pair_motion =
+      CameraPairMotion{.turn_about_up = rotation.angle() * rotation.axis().dot(motion->normal),
+                       .travel_over_height = motion->translation.norm()};
   estimate.quality = static_cast<double>(inliers) / static_cast<double>(count);
   // RMS transfer error of the inliers [rad at the image centre, like the geometric residual].
   Eigen::Matrix3d h;

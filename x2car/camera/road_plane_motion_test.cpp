@@ -266,6 +266,38 @@ TEST(RoadPlaneMotion, ATurnBetweenTheFramesDoesNotBiasTheYawAboveTheRearAxle) {
   }
 }
 
+// The pair's motion is the car's (the image motion gate reads it): its turn about the road's
+// normal, left positive as the car's yaw, and its travel over the camera's height, whatever the
+// mounting.
+TEST(RoadPlaneMotion, ThePairsMotionIsTheCarsTurnAndTravelOverHeight) {
+  const core::CameraIntrinsics intrinsics;
+  const EulerAngles mounting{rad_from_deg(-1.5), rad_from_deg(3.0), rad_from_deg(2.5)};
+  for (const double turn_deg : {-2.0, 0.0, 1.2}) {
+    const TwoViews views = road_in_two_views(mounting, intrinsics, 1.6, rad_from_deg(turn_deg), 0.0,
+                                             13, Eigen::Vector3d(1.2, -0.3, 1.45));
+    const FrameEstimate estimate =
+        road_plane_from_tracks(views.previous_px, views.current_px, intrinsics);
+    ASSERT_TRUE(estimate.usable()) << turn_deg;
+    ASSERT_TRUE(estimate.pair_motion.has_value()) << turn_deg;
+    EXPECT_NEAR(deg_from_rad(estimate.pair_motion->turn_about_up), turn_deg, 1e-4);
+    // Ahead of the rear axle the camera's chord is longer than the car's by the lever arm's turn.
+    const Eigen::Vector3d lever(1.2, -0.3, 0.0);
+    const Eigen::Vector3d camera_chord =
+        1.6 * Eigen::Vector3d(std::cos(0.5 * rad_from_deg(turn_deg)),
+                              std::sin(0.5 * rad_from_deg(turn_deg)), 0.0) +
+        (Eigen::AngleAxisd(rad_from_deg(turn_deg), Eigen::Vector3d::UnitZ()).matrix() -
+         Eigen::Matrix3d::Identity()) *
+            lever;
+    EXPECT_NEAR(estimate.pair_motion->travel_over_height, camera_chord.norm() / 1.45, 1e-5);
+  }
+  const TwoViews turning_right =
+      road_in_two_views(mounting, intrinsics, 1.6, rad_from_deg(-0.7), 0.0, 13);
+  const FrameEstimate right =
+      road_plane_from_tracks(turning_right.previous_px, turning_right.current_px, intrinsics);
+  ASSERT_TRUE(right.pair_motion.has_value());
+  EXPECT_LT(right.pair_motion->turn_about_up, 0.0);  // turning right: negative, as the car's yaw
+}
+
 // Tracks with 0.2 px of noise (Lucas-Kanade on a textured road does about that): one pair's roll
 // within 0.3 deg, pitch and yaw within 0.5 deg; averaging over the paper's windows does the rest.
 TEST(RoadPlaneMotion, NoisyTracksGiveTheMountingToAFewTenthsOfADegree) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <span>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -24,6 +25,8 @@ void TemporalFilterOptions::Check() const {
   check.non_negative("min_speed_mps", min_speed_mps);
   check.positive("max_yaw_rate", max_yaw_rate);
   check.positive("max_acceleration_mps2", max_acceleration_mps2);
+  check.positive("max_window_yaw_rate", max_window_yaw_rate);
+  check.positive("image_motion_camera_height_m", image_motion_camera_height_m);
   check.non_negative("weight_floor", weight_floor);
   check.positive("block_s", block_s);
   check.non_negative("standard_error_floor.roll", standard_error_floor.roll);
@@ -48,6 +51,19 @@ double EulerAngles::*const kAngles[] = {&EulerAngles::roll, &EulerAngles::pitch,
 
 double largest(const EulerAngles& angles) {
   return std::max({angles.roll, angles.pitch, angles.yaw});
+}
+
+// The least-squares slope of `values` over `times` (at least two distinct times).
+double slope(std::span<const double> times, std::span<const double> values) {
+  const double mean_time = weighted_mean(times);
+  const double mean_value = weighted_mean(values);
+  double covariance = 0.0;
+  double variance = 0.0;
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    covariance += (times[i] - mean_time) * (values[i] - mean_value);
+    variance += (times[i] - mean_time) * (times[i] - mean_time);
+  }
+  return variance > 0.0 ? covariance / variance : 0.0;
 }
 
 }  // namespace
@@ -139,6 +155,54 @@ void TemporalFilter::take_road_plane_angles(FilterWindow& window) const {
   window.road_plane_frames = kept;
 }
 
+std::optional<FrameVerdict> TemporalFilter::image_motion_gate(bool& known) const {
+  known = std::all_of(window_.begin(), window_.end(),
+                      [](const Buffered& frame) { return frame.has_vehicle_motion; });
+  // Every frame passed the VehicleMotion gate; frames without one leave the images to tell.
+  if (known) return std::nullopt;
+  std::vector<double> times;
+  std::vector<double> yaw_rates;
+  std::vector<double> speeds;
+  for (const Buffered& frame : window_) {
+    if (!frame.road_plane || !frame.road_plane->motion) continue;
+    const ImageMotion& motion = *frame.road_plane->motion;
+    if (!std::isfinite(motion.yaw_rate) || !std::isfinite(motion.speed_over_height)) continue;
+    times.push_back(frame.time - window_.front().time);
+    yaw_rates.push_back(motion.yaw_rate);
+    speeds.push_back(motion.speed_over_height);
+  }
+  if (times.size() < static_cast<std::size_t>(options_.min_road_plane_frames)) return std::nullopt;
+  known = true;
+  // Pairs whose tracks locked onto a passing car are left out, as from the angles' means: beyond
+  // road_plane_clip MADs of the yaw rates, or of the speeds about their straight line.
+  const OutlierRejectionOptions clip{.k = options_.road_plane_clip};
+  const double first_slope = slope(times, speeds);
+  std::vector<double> residuals(speeds.size());
+  for (std::size_t i = 0; i < speeds.size(); ++i) residuals[i] = speeds[i] - first_slope * times[i];
+  const std::vector<bool> yaw_inliers = mad_inlier_mask(yaw_rates, clip);
+  const std::vector<bool> speed_inliers = mad_inlier_mask(residuals, clip);
+  std::vector<double> kept_times;
+  std::vector<double> kept_yaw_rates;
+  std::vector<double> kept_speeds;
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    if (yaw_inliers[i]) kept_yaw_rates.push_back(yaw_rates[i]);
+    if (speed_inliers[i]) {
+      kept_times.push_back(times[i]);
+      kept_speeds.push_back(speeds[i]);
+    }
+  }
+  if (!kept_yaw_rates.empty() &&
+      std::abs(weighted_mean(kept_yaw_rates)) > options_.max_window_yaw_rate) {
+    return FrameVerdict::kTurning;
+  }
+  if (kept_speeds.size() >= 2 &&
+      std::abs(slope(kept_times, kept_speeds)) * options_.image_motion_camera_height_m >
+          options_.max_acceleration_mps2) {
+    return FrameVerdict::kAccelerating;
+  }
+  return std::nullopt;
+}
+
 FrameVerdict TemporalFilter::add(double time_s, const std::optional<EulerAngles>& angles,
                                  const std::optional<VehicleMotion>& motion,
                                  std::optional<RoadPlaneAngles> road_plane) {
@@ -170,7 +234,7 @@ FrameVerdict TemporalFilter::add(double time_s, const std::optional<EulerAngles>
   if (road_plane && (!std::isfinite(road_plane->roll) || !std::isfinite(road_plane->pitch))) {
     road_plane.reset();
   }
-  window_.push_back({frame, time_s, *angles, road_plane});
+  window_.push_back({frame, time_s, *angles, motion.has_value(), road_plane});
   if (window_.size() < static_cast<std::size_t>(options_.window_frames)) return verdict;
 
   FilterWindow passed;
@@ -178,6 +242,10 @@ FrameVerdict TemporalFilter::add(double time_s, const std::optional<EulerAngles>
     if (!steadiest_failed_ || largest(passed.std) < largest(*steadiest_failed_)) {
       steadiest_failed_ = passed.std;
     }
+    return verdict;
+  }
+  if (const std::optional<FrameVerdict> refused = image_motion_gate(passed.motion_known)) {
+    ++(*refused == FrameVerdict::kTurning ? refused_turning_ : refused_accelerating_);
     return verdict;
   }
   passed.first_frame = window_.front().frame;
@@ -193,6 +261,8 @@ FrameVerdict TemporalFilter::add(double time_s, const std::optional<EulerAngles>
 FilterEstimate TemporalFilter::current() const {
   FilterEstimate estimate;
   estimate.windows = windows_.size();
+  estimate.windows_refused_turning = refused_turning_;
+  estimate.windows_refused_accelerating = refused_accelerating_;
   const auto need = static_cast<std::size_t>(options_.window_frames);
   if (windows_.empty()) {
     if (longest_stretch_ < need) {
@@ -203,6 +273,14 @@ FilterEstimate TemporalFilter::current() const {
                     "only {} frames in stable stretches, at most {} in a row; need {} in "
                     "a row",
                     usable_frames_, longest_stretch_, need);
+    } else if (refused_turning_ + refused_accelerating_ > 0) {
+      estimate.reason = fmt::format(
+          "no steady window of {} frames was driven straight at a steady speed: the images' "
+          "motion refused {} for turning (mean yaw rate above {:.2g} deg/s) and {} for "
+          "speeding up or braking (above {:.2g} m/s^2 at a camera height of {:.2g} m); --ins "
+          "gives the car's motion frame by frame",
+          need, refused_turning_, deg_from_rad(options_.max_window_yaw_rate), refused_accelerating_,
+          options_.max_acceleration_mps2, options_.image_motion_camera_height_m);
     } else {
       const EulerAngles std = steadiest_failed_.value_or(EulerAngles{});
       estimate.reason = fmt::format(
@@ -220,6 +298,7 @@ FilterEstimate TemporalFilter::current() const {
   values.reserve(windows_.size());
   for (const FilterWindow& window : windows_) {
     estimate.frames_in_windows += window.last_frame - window.first_frame + 1;
+    if (window.motion_known) ++estimate.motion_known_windows;
     if (window.road_plane_frames > 0) {
       ++estimate.road_plane_windows;
       estimate.road_plane_frames += window.road_plane_frames;

@@ -48,11 +48,21 @@ struct VehicleMotion {
   double acceleration_mps2 = 0.0;
 };
 
+// The car's motion between a frame and the one before, seen in the images (the road plane's
+// homography, road_plane_motion.hpp): its yaw rate, and its speed in units of the camera's height
+// above the road, which the images cannot tell apart from the height.
+struct ImageMotion {
+  double yaw_rate = 0.0;           // [rad/s], left positive
+  double speed_over_height = 0.0;  // [1/s]
+};
+
 // What the road plane between a frame and the one before says about the car (auto;
 // road_plane_motion.hpp).
 struct RoadPlaneAngles {
   double roll = 0.0;   // with the road plane's horizon [rad]
   double pitch = 0.0;  // of the car's travel between the frames [rad]
+  double yaw = 0.0;    // of the car's travel between the frames [rad]
+  std::optional<ImageMotion> motion;
 };
 
 struct TemporalFilterOptions {
@@ -72,6 +82,23 @@ struct TemporalFilterOptions {
   // m/s^2), so the car's x axis leaves the road's lines: a steady acceleration out of a junction
   // or onto a highway is a steady window with a biased pitch [m/s^2].
   double max_acceleration_mps2 = 0.3;
+  // Without a VehicleMotion the images tell the car's motion (ImageMotion, auto), and a steady
+  // window is refused when the car turned or sped up through it: windows through a steady
+  // acceleration or along a long curve are steady, and biased. The images' yaw rates and speeds
+  // are too noisy frame by frame for the gate above, so it reads whole windows:
+  //   - the mean of the frames' yaw rates above this [rad/s]: along a steady curve the lines'
+  //     vanishing point, some way ahead, leads the car's heading by the yaw rate times the time
+  //     the lines reach ahead (0.4-0.8 s on rendered highways: 0.5 deg of yaw at 0.8 deg/s), and
+  //     the body rolls outward. Frame by frame the gate above allows twice this, which a window
+  //     mean holds to; a window that mixes straight road with part of a bend is left to the
+  //     steadiness test and the windows' agreement;
+  double max_window_yaw_rate = rad_from_deg(0.5);
+  //   - the slope of the frames' speeds over height, times this height, above
+  //     max_acceleration_mps2. The images measure the speed in units of the camera's height above
+  //     the road; this turns it into m/s^2 [m]: a windscreen camera of a passenger car sits at
+  //     1.2-1.6 m, and a taller mounting (a truck's at 2.5 m) gates less than it should by the
+  //     ratio of the heights.
+  double image_motion_camera_height_m = 1.5;
   // Added to each window's std in its weight, so that one window with an accidentally tiny spread
   // does not outweigh the rest [rad].
   double weight_floor = 0.001;
@@ -125,6 +152,9 @@ struct FilterWindow {
   // The frames whose road-plane angles made the window's roll and pitch (0: they are the steady
   // angles').
   std::size_t road_plane_frames = 0;
+  // Whether the car's motion through the window was known, from a VehicleMotion of every frame or
+  // from the images (ImageMotion): only then were accelerations and curves gated.
+  bool motion_known = false;
 };
 
 struct FilterEstimate {
@@ -135,6 +165,12 @@ struct FilterEstimate {
   std::size_t frames_in_windows = 0;
   std::size_t road_plane_windows = 0;  // windows whose roll and pitch are the road plane's
   std::size_t road_plane_frames = 0;   // the frames behind them
+  // Windows whose car motion was known (FilterWindow::motion_known).
+  std::size_t motion_known_windows = 0;
+  // Times a steady window was refused by the image motion gate: turning, accelerating (a window
+  // slides on by a frame after a refusal, so one curve counts many times).
+  std::size_t windows_refused_turning = 0;
+  std::size_t windows_refused_accelerating = 0;
   // Why not ok: "only 43 frames in stable stretches; need 100", or the smallest std reached.
   std::string reason;
 };
@@ -166,10 +202,14 @@ class TemporalFilter {
     std::size_t frame;
     double time;
     EulerAngles angles;
+    bool has_vehicle_motion;
     std::optional<RoadPlaneAngles> road_plane;
   };
   void end_stretch();
   bool window_passes(EulerAngles& mean, EulerAngles& std) const;
+  // The image motion gate on the current window: kTurning or kAccelerating when it fails, nothing
+  // when it passes; `known` tells whether the car's motion through it was known at all.
+  std::optional<FrameVerdict> image_motion_gate(bool& known) const;
   void take_road_plane_angles(FilterWindow& window) const;
 
   TemporalFilterOptions options_;
@@ -183,6 +223,8 @@ class TemporalFilter {
   std::optional<double> last_usable_time_;
   // The smallest largest-of-three std of any full window that did not pass [rad], for the reason.
   std::optional<EulerAngles> steadiest_failed_;
+  std::size_t refused_turning_ = 0;
+  std::size_t refused_accelerating_ = 0;
 };
 
 }  // namespace x2car::camera

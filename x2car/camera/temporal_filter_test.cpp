@@ -141,6 +141,96 @@ TEST(TemporalFilter, GatesAccelerationByTheCarsMotion) {
   EXPECT_STREQ(to_string(FrameVerdict::kAccelerating), "accelerating");
 }
 
+// A frame's road-plane angles (the truth) with the car's motion seen in the images: its yaw rate
+// and speed over height, each with noise, as the road plane's homography gives them.
+class NoisyImageMotion {
+ public:
+  explicit NoisyImageMotion(std::uint64_t seed = 5) : random_(seed) {}
+  RoadPlaneAngles next(double yaw_rate, double speed_over_height) {
+    std::normal_distribution<double> yaw_noise(0.0, rad_from_deg(0.3));
+    std::normal_distribution<double> speed_noise(0.0, 0.03 * speed_over_height);
+    return RoadPlaneAngles{
+        kTruth.roll, kTruth.pitch, kTruth.yaw,
+        ImageMotion{.yaw_rate = yaw_rate + yaw_noise(random_),
+                    .speed_over_height = speed_over_height + speed_noise(random_)}};
+  }
+
+ private:
+  std::mt19937_64 random_;
+};
+
+// Without a GNSS/INS log the images' motion gates the windows: a car speeding up at 0.6 m/s^2
+// (0.4 /s^2 over a 1.5 m height) out of a junction holds a steady, nose-up pitch, and along a long
+// curve at 1.5 deg/s the lines' vanishing point leads the car's heading steadily. Both are
+// refused; the straight stretch at a steady speed after them passes.
+TEST(TemporalFilter, WithoutTheCarsMotionTheImagesGateAccelerationsAndCurves) {
+  TemporalFilter filter;
+  NoisyFrames frames(0.0005);
+  NoisyImageMotion image_motion;
+  // Both biases are 4 window thresholds: a window mixing them with other frames is not steady.
+  const EulerAngles nose_up{kTruth.roll, kTruth.pitch - 0.02, kTruth.yaw};
+  const EulerAngles on_curve{kTruth.roll, kTruth.pitch, kTruth.yaw + 0.02};
+  double time = 0.0;
+  double speed_over_height = 2.0;
+  for (int i = 0; i < 150; ++i) {
+    speed_over_height += 0.04;  // 0.4 /s^2 at 10 Hz
+    EXPECT_NE(filter.add(time += 0.1, frames.next(nose_up), std::nullopt,
+                         image_motion.next(0.0, speed_over_height)),
+              FrameVerdict::kWindowPassed);
+  }
+  for (int i = 0; i < 150; ++i) {
+    EXPECT_NE(filter.add(time += 0.1, frames.next(on_curve), std::nullopt,
+                         image_motion.next(rad_from_deg(1.5), speed_over_height)),
+              FrameVerdict::kWindowPassed);
+  }
+  FilterEstimate estimate = filter.current();
+  EXPECT_FALSE(estimate.ok);
+  EXPECT_GT(estimate.windows_refused_accelerating, 0U);
+  EXPECT_GT(estimate.windows_refused_turning, 0U);
+  EXPECT_NE(estimate.reason.find("speeding up or braking"), std::string::npos) << estimate.reason;
+  EXPECT_NE(estimate.reason.find("--ins"), std::string::npos) << estimate.reason;
+
+  // A frame without an estimate ends the stretch, so that the next window holds no curve frame.
+  EXPECT_EQ(filter.add(time += 0.1, std::nullopt), FrameVerdict::kNoEstimate);
+  for (int i = 0; i < 100; ++i) {
+    filter.add(time += 0.1, frames.next(), std::nullopt,
+               image_motion.next(rad_from_deg(0.1), speed_over_height));
+  }
+  estimate = filter.current();
+  ASSERT_TRUE(estimate.ok) << estimate.reason;
+  EXPECT_EQ(estimate.windows, 1U);
+  EXPECT_EQ(estimate.motion_known_windows, 1U);
+  ASSERT_EQ(filter.windows().size(), 1U);
+  EXPECT_EQ(filter.windows()[0].first_frame, 301U);
+  EXPECT_NEAR(estimate.angles.pitch, kTruth.pitch, 2e-4);
+  EXPECT_NEAR(estimate.angles.yaw, kTruth.yaw, 2e-4);
+}
+
+// The gate reads the images only where the car's motion is otherwise unknown: frames with a
+// VehicleMotion are gated by it alone, and a window without enough image motion is not gated.
+TEST(TemporalFilter, TheImageMotionGateYieldsToTheCarsMotion) {
+  NoisyFrames frames(0.0005);
+  NoisyImageMotion image_motion;
+  TemporalFilter with_motion;
+  TemporalFilter without_image_motion;
+  double time = 0.0;
+  for (int i = 0; i < 100; ++i) {
+    time += 0.1;
+    const EulerAngles angles = frames.next();
+    // The images say the car turns; the GNSS/INS log says it does not, and is believed.
+    with_motion.add(time, angles, VehicleMotion{12.0, 0.0},
+                    image_motion.next(rad_from_deg(3.0), 8.0));
+    without_image_motion.add(time, angles);
+  }
+  const FilterEstimate known = with_motion.current();
+  ASSERT_TRUE(known.ok) << known.reason;
+  EXPECT_EQ(known.motion_known_windows, 1U);
+  EXPECT_EQ(known.windows_refused_turning, 0U);
+  const FilterEstimate unknown = without_image_motion.current();
+  ASSERT_TRUE(unknown.ok) << unknown.reason;
+  EXPECT_EQ(unknown.motion_known_windows, 0U);
+}
+
 // Windows are weighted by 1 / (std^2 + weight_floor^2): a window twice as noisy weighs a quarter.
 TEST(TemporalFilter, WeighsWindowsByTheirSpread) {
   TemporalFilterOptions options;
@@ -171,11 +261,11 @@ TEST(TemporalFilter, AveragesTheRoadPlanesRollAndPitchOverTheSteadyWindows) {
                            kTruth.yaw};
   for (int i = 0; i < 300; ++i) {
     std::optional<RoadPlaneAngles> road_plane =
-        RoadPlaneAngles{kTruth.roll + scatter(random), kTruth.pitch + scatter(random)};
+        RoadPlaneAngles{kTruth.roll + scatter(random), kTruth.pitch + scatter(random), 0.0, {}};
     if (i % 3 == 0) road_plane.reset();  // pairs without a road plane
     // Tracks on a passing car: the roll of one pair, the pitch of another.
-    if (i % 50 == 7) road_plane = RoadPlaneAngles{kTruth.roll + 0.2, kTruth.pitch};
-    if (i % 50 == 8) road_plane = RoadPlaneAngles{kTruth.roll, kTruth.pitch - 0.2};
+    if (i % 50 == 7) road_plane = RoadPlaneAngles{kTruth.roll + 0.2, kTruth.pitch, 0.0, {}};
+    if (i % 50 == 8) road_plane = RoadPlaneAngles{kTruth.roll, kTruth.pitch - 0.2, 0.0, {}};
     filter.add(0.1 * i, steady.next(tilted), std::nullopt, road_plane);
   }
   ASSERT_EQ(filter.windows().size(), 3U);
@@ -203,8 +293,9 @@ TEST(TemporalFilter, TooFewRoadPlaneFramesLeaveTheSteadyRollAndPitch) {
   NoisyFrames steady(0.0005, 5);
   for (int i = 0; i < 100; ++i) {
     const std::optional<RoadPlaneAngles> road_plane =
-        i % 3 == 0 ? std::optional(RoadPlaneAngles{kTruth.roll - 0.01, kTruth.pitch + 0.01})
-                   : std::nullopt;  // 34 frames
+        i % 3 == 0
+            ? std::optional(RoadPlaneAngles{kTruth.roll - 0.01, kTruth.pitch + 0.01, 0.0, {}})
+            : std::nullopt;  // 34 frames
     filter.add(0.1 * i, steady.next(), std::nullopt, road_plane);
   }
   ASSERT_EQ(filter.windows().size(), 1U);
