@@ -231,7 +231,8 @@ RunCommand setup_calibrate_camera_command(CLI::App& command) {
                   "Per-frame estimator: geometric (lines' vanishing point, gravity's horizon), "
                   "motion (the car's travel and the road plane between frames), auto (yaw and the "
                   "steady windows from the lines, roll and pitch from the road plane and the "
-                  "travel), learned (the paper's network, --model)")
+                  "travel; without --ins the road's motion in the images gates curves and "
+                  "accelerations), learned (the paper's network, --model)")
       ->check(CLI::IsMember([] {
         std::vector<std::string> names = enum_names(camera::kCameraMethodNames);
         names.emplace_back(kLearnedEstimator);

@@ -13,6 +13,9 @@
 //     next one starts after it, so windows never share frames (the paper slides its window; the
 //     disjoint windows here count each frame once and make the spread between windows an honest
 //     measure of their error);
+//   - without the car's motion, the images' (ImageMotion: the road plane's turn and travel between
+//     frames, auto) gates whole windows: a steady window along a long curve or through an
+//     acceleration is refused, and the window slides on;
 //   - the estimate is the average of the passing windows' means, each weighted by
 //     1 / (std^2 + weight_floor^2), its spread;
 //   - its standard error comes from the spread between windows (core/standard_error.hpp: moving
