@@ -92,9 +92,9 @@ struct TemporalFilterOptions {
   //   - the mean of the frames' yaw rates above this [rad/s]: along a steady curve the lines'
   //     vanishing point, some way ahead, leads the car's heading by the yaw rate times the time
   //     the lines reach ahead (0.4-0.8 s on rendered highways: 0.5 deg of yaw at 0.8 deg/s), and
-  //     the body rolls outward. Frame by frame the gate above allows twice this, which a window
-  //     mean holds to; a window that mixes straight road with part of a bend is left to the
-  //     steadiness test and the windows' agreement;
+  //     the body rolls outward. The per-frame gate above (a GNSS/INS motion) allows twice this;
+  //     a window's mean is sharp enough to be held tighter. A window that mixes straight road
+  //     with part of a bend is left to the steadiness test and the windows' agreement;
   double max_window_yaw_rate = rad_from_deg(0.5);
   //   - the slope of the frames' speeds over height, times this height, above
   //     max_acceleration_mps2. The images measure the speed in units of the camera's height above
