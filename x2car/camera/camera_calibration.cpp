@@ -1,6 +1,7 @@
 #include "x2car/camera/camera_calibration.hpp"
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_pipeline.h>
 
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include "x2car/camera/vanishing_rotation.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/core/options_check.hpp"
+#include "x2car/core/robust_stats.hpp"
 
 namespace x2car::camera {
 
@@ -22,6 +24,9 @@ void CameraCalibrationOptions::Check() const {
   if (!estimator && method != CameraMethod::kMotion) geometric.Check();
   if (!estimator && method != CameraMethod::kGeometric) motion.Check();
   check.positive("max_pair_gap_s", max_pair_gap_s);
+  check.at_least("noisy_estimator_block_frames", noisy_estimator_block_frames, 1);
+  check.at_least("motion_guide_frame_step", motion_guide_frame_step, 0);
+  check.at_least("motion_guide_min_frames", motion_guide_min_frames, 1);
   filter.Check();
   check.positive("max_window_disagreement", max_window_disagreement);
   check.at_least("gravity_horizon_roll_floor", gravity_horizon_roll_floor, 0.0);
@@ -67,14 +72,30 @@ std::optional<VehicleMotion> motion_at(const CameraFrameSource& frames, std::siz
   return frames.motion.empty() ? std::nullopt : frames.motion[index];
 }
 
+// The filter's options for the run's estimator: a noisy one's test is on blocks of frames, and its
+// failed frames leave holes (CameraCalibrationOptions::noisy_estimator_block_frames).
+TemporalFilterOptions filter_options(const CameraCalibrationOptions& options) {
+  TemporalFilterOptions filter = options.filter;
+  const bool noisy =
+      options.estimator ? options.estimator_scatters : options.method == CameraMethod::kMotion;
+  if (noisy) {
+    filter.steadiness_block_frames =
+        std::max(1, std::min(options.noisy_estimator_block_frames, filter.window_frames / 2));
+    filter.unusable_frame_ends_stretch = false;
+  }
+  return filter;
+}
+
 // The estimators a run uses: one of them or both (auto).
 struct Estimators {
   FrameEstimator single;       // from one image: geometric or the caller's
   SequenceEstimator sequence;  // from the image and the ones before it: motion
+  // motion alone: the drive's own first look (motion_guide_frame_step), when it found the road.
+  std::optional<SequenceGuide> sequence_guide;
 };
 
 Estimators make_estimators(const CameraCalibrationOptions& options) {
-  if (options.estimator) return {options.estimator, {}};
+  if (options.estimator) return {options.estimator, {}, std::nullopt};
   Estimators estimators;
   if (options.method != CameraMethod::kMotion)
     estimators.single = make_geometric_estimator(options.geometric);
@@ -169,7 +190,7 @@ void estimate_frame(const CameraFrameSource& frames, const core::CameraIntrinsic
     }
   } else if (estimators.sequence) {
     record.estimate = estimate_sequence(frames, intrinsics, options, estimators.sequence, index,
-                                        image, std::nullopt);
+                                        image, estimators.sequence_guide);
   } else {
     record.estimate = estimators.single(image, intrinsics);
   }
@@ -178,6 +199,20 @@ void estimate_frame(const CameraFrameSource& frames, const core::CameraIntrinsic
   const Eigen::Matrix3d camera_matrix = intrinsics.camera_matrix();
   record.angles = vehicle_from_camera_angles(estimate.road_vanishing_point_px,
                                              estimate.horizon_line, camera_matrix);
+  std::optional<ImageMotion> image_motion;
+  if (estimate.pair_motion) {
+    const auto span = static_cast<std::size_t>(options.motion.tracked_frames);
+    const double pair_s = frames.times[index] - frames.times[index + 1 - span];
+    image_motion =
+        ImageMotion{.yaw_rate = estimate.pair_motion->turn_about_up / pair_s,
+                    .speed_over_height = estimate.pair_motion->travel_over_height / pair_s};
+  }
+  if (record.angles && !estimators.single) {
+    // motion: the frame's angles are the road plane's and the travel's already; they ride along
+    // for the window's clipped means, and the images' motion for its gate.
+    record.road_plane = RoadPlaneAngles{record.angles->roll, record.angles->pitch,
+                                        record.angles->yaw, image_motion};
+  }
   if (record.angles && estimate.road_plane_horizon_line && estimate.road_plane_vanishing_point_px) {
     // The roll with the lines' vanishing point (the road plane's horizon is orthogonalised against
     // it, as the steady angles' is), the pitch of the travel's direction.
@@ -187,16 +222,65 @@ void estimate_frame(const CameraFrameSource& frames, const core::CameraIntrinsic
         *estimate.road_plane_vanishing_point_px, *estimate.road_plane_horizon_line, camera_matrix);
     if (with_lines && with_travel) {
       record.road_plane =
-          RoadPlaneAngles{with_lines->roll, with_travel->pitch, with_travel->yaw, std::nullopt};
-      if (estimate.pair_motion) {
-        const auto span = static_cast<std::size_t>(options.motion.tracked_frames);
-        const double pair_s = frames.times[index] - frames.times[index + 1 - span];
-        record.road_plane->motion =
-            ImageMotion{.yaw_rate = estimate.pair_motion->turn_about_up / pair_s,
-                        .speed_over_height = estimate.pair_motion->travel_over_height / pair_s};
-      }
+          RoadPlaneAngles{with_lines->roll, with_travel->pitch, with_travel->yaw, image_motion};
     }
   }
+}
+
+// motion alone: the road plane of every motion_guide_frame_step-th frame without a guide (in
+// parallel), and the mounting of the median of their angles as the guide of every frame; nothing
+// when fewer than motion_guide_min_frames found it. Frames that fail here (gated, unreadable, no
+// road) are left to the run itself, which reports them.
+struct FirstLook {
+  std::size_t frames = 0;              // that found the road plane
+  std::optional<EulerAngles> typical;  // the median of their angles, when enough
+  std::optional<SequenceGuide> guide;  // its vanishing point and horizon
+};
+
+FirstLook first_look(const CameraFrameSource& frames, const core::CameraIntrinsics& intrinsics,
+                     const CameraCalibrationOptions& options, const SequenceEstimator& estimator) {
+  FirstLook look;
+  if (options.motion_guide_frame_step == 0) return look;
+  const auto step = static_cast<std::size_t>(options.motion_guide_frame_step);
+  const std::size_t samples = frames.times.size() / step;
+  std::vector<std::optional<EulerAngles>> angles(samples);
+  const Eigen::Matrix3d camera_matrix = intrinsics.camera_matrix();
+  tbb::parallel_for(std::size_t{0}, samples, [&](std::size_t sample) {
+    const std::size_t index = sample * step + step - 1;
+    if (motion_gate(motion_at(frames, index), options.filter)) return;
+    try {
+      const cv::Mat image = read_frame(frames, intrinsics, index);
+      const FrameEstimate estimate =
+          estimate_sequence(frames, intrinsics, options, estimator, index, image, std::nullopt);
+      if (!estimate.usable()) return;
+      angles[sample] = vehicle_from_camera_angles(estimate.road_vanishing_point_px,
+                                                  estimate.horizon_line, camera_matrix);
+    } catch (const InputError&) {
+      // The run meets this frame again and reports it (or counts it, skip_bad_images).
+    }
+  });
+  // The medians as offsets from the first sample's angles on the circle (a rear camera's yaw
+  // lies at the seam).
+  std::optional<EulerAngles> reference;
+  std::vector<double> rolls;
+  std::vector<double> pitches;
+  std::vector<double> yaws;
+  for (const std::optional<EulerAngles>& sample : angles) {
+    if (!sample) continue;
+    if (!reference) reference = sample;
+    rolls.push_back(angle_difference(sample->roll, reference->roll));
+    pitches.push_back(angle_difference(sample->pitch, reference->pitch));
+    yaws.push_back(angle_difference(sample->yaw, reference->yaw));
+  }
+  look.frames = rolls.size();
+  if (look.frames < static_cast<std::size_t>(options.motion_guide_min_frames)) return look;
+  look.typical = EulerAngles{wrap_angle(reference->roll + median(rolls)),
+                             wrap_angle(reference->pitch + median(pitches)),
+                             wrap_angle(reference->yaw + median(yaws))};
+  const std::optional<VanishingGeometry> geometry =
+      vanishing_geometry_from_rotation(rotation_from_euler(*look.typical), camera_matrix);
+  if (geometry) look.guide = SequenceGuide{geometry->vanishing_point_px, geometry->horizon_line};
+  return look;
 }
 
 // Every frame through the estimator (in parallel) and the filter (in order).
@@ -352,8 +436,13 @@ std::optional<std::string> first_read_error(const std::vector<FrameRecord>& reco
 CalibrationResult calibrate(const CameraFrameSource& frames,
                             const core::CameraIntrinsics& intrinsics,
                             const CameraCalibrationOptions& options) {
-  const Estimators estimators = make_estimators(options);
-  TemporalFilter filter(options.filter);
+  Estimators estimators = make_estimators(options);
+  FirstLook look;
+  if (estimators.sequence && !estimators.single) {
+    look = first_look(frames, intrinsics, options, estimators.sequence);
+    estimators.sequence_guide = look.guide;
+  }
+  TemporalFilter filter(filter_options(options));
   std::vector<FrameVerdict> verdicts;
   const std::vector<FrameRecord> records =
       run_frames(frames, intrinsics, options, estimators, filter, verdicts);
@@ -374,6 +463,14 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
         static_cast<std::int64_t>(estimate.windows_refused_accelerating);
   }
   count_frames(records, verdicts, result);
+  if (options.motion_guide_frame_step > 0 && estimators.sequence && !estimators.single) {
+    result.diagnostics["motion_first_look_frames"] = static_cast<double>(look.frames);
+    if (look.guide) {
+      result.diagnostics["motion_guide_roll_deg"] = deg_from_rad(look.typical->roll);
+      result.diagnostics["motion_guide_pitch_deg"] = deg_from_rad(look.typical->pitch);
+      result.diagnostics["motion_guide_yaw_deg"] = deg_from_rad(look.typical->yaw);
+    }
+  }
   if (options.keep_series) write_series(frames, records, filter, result);
   const std::optional<std::string> read_error = first_read_error(records);
 

@@ -59,14 +59,31 @@ struct CameraCalibrationOptions {
   FrameEstimator estimator;
   // The name the result's `method` reports for `estimator`.
   std::string estimator_name;
+  // Whether `estimator`'s angles scatter from frame to frame with no memory (a learned one): it is
+  // then filtered as the motion estimator is (noisy_estimator_block_frames).
+  bool estimator_scatters = false;
   GeometricEstimatorOptions geometric;
   RoadPlaneMotionOptions motion;
+  // motion: before the run, every this many frames a first look at the road plane without a guide;
+  // when at least motion_guide_min_frames of them give one, the median of their angles guides
+  // every frame's search for the road (RoadPlaneMotionOptions::max_seed_travel_over_height) in
+  // place of a level camera looking ahead: at highway speed a camera yawed 4 deg sends that
+  // search down the wrong direction, and most pairs find no road. 0: no first look. 10 costs a
+  // tenth more time.
+  int motion_guide_frame_step = 10;
+  int motion_guide_min_frames = 10;
   // The motion estimator pairs a frame with the one before it when they are at most this far apart
   // [s]; otherwise the frame is no_previous_frame (0.25 s: down to 4 Hz video; past it the road
   // ahead moves out of the lower image between frames at city speeds).
   double max_pair_gap_s = 0.25;
   // The paper's window and threshold, the motion gate, the averaging and the standard errors.
   TemporalFilterOptions filter;
+  // For an estimator whose angles scatter from frame to frame with no memory (motion: one pair's
+  // road plane; `estimator_scatters`), the filter's steadiness_block_frames (at most half the
+  // window), and a frame it gives no angles for leaves a hole in the stretch instead of ending it
+  // (TemporalFilterOptions::unusable_frame_ends_stretch): the paper's test on each frame's angles
+  // never passes for them. 10 frames: 1 s at 10 Hz, shorter than any turn or braking.
+  int noisy_estimator_block_frames = 10;
   // The passing windows' means may differ by at most this much in any angle [rad] (largest minus
   // smallest); beyond it the result is unreliable: a steady but wrong stretch (a long curve of
   // constant radius, a road that leans one way) got through the filter.

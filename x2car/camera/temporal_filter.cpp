@@ -21,6 +21,8 @@ void TemporalFilterOptions::Check() const {
   const OptionsCheck check("TemporalFilterOptions");
   check.at_least("window_frames", window_frames, 2);
   check.positive("max_window_std", max_window_std);
+  check.at_least("steadiness_block_frames", steadiness_block_frames, 1);
+  check.at_most("steadiness_block_frames", steadiness_block_frames, window_frames / 2.0);
   check.positive("max_gap_s", max_gap_s);
   check.non_negative("min_speed_mps", min_speed_mps);
   check.positive("max_yaw_rate", max_yaw_rate);
@@ -91,23 +93,30 @@ void TemporalFilter::end_stretch() {
   stretch_ = 0;
 }
 
-// Mean and std (n - 1) of each angle over the full window; differences are taken from the first
-// frame's angles on the circle, so the seam at +-pi cannot split a window.
+// Mean of each angle over the full window, and the std (n - 1) of its blocks' means (of its frames'
+// angles with blocks of one frame); differences are taken from the first frame's angles on the
+// circle, so the seam at +-pi cannot split a window.
 bool TemporalFilter::window_passes(EulerAngles& mean, EulerAngles& std) const {
+  const auto block = static_cast<std::size_t>(options_.steadiness_block_frames);
+  const std::size_t blocks = window_.size() / block;
+  const std::size_t first = window_.size() - blocks * block;  // the oldest frames left over
   const double n = static_cast<double>(window_.size());
   for (double EulerAngles::*angle : kAngles) {
     const double reference = window_.front().angles.*angle;
     double sum = 0.0;
-    double sum_squares = 0.0;
-    for (const Buffered& frame : window_) {
-      const double offset = angle_difference(frame.angles.*angle, reference);
-      sum += offset;
-      sum_squares += offset * offset;
-    }
+    for (const Buffered& frame : window_) sum += angle_difference(frame.angles.*angle, reference);
     const double offset_mean = sum / n;
     mean.*angle = wrap_angle(reference + offset_mean);
-    std.*angle =
-        std::sqrt(std::max(0.0, (sum_squares - n * offset_mean * offset_mean) / (n - 1.0)));
+    double sum_squares = 0.0;
+    for (std::size_t start = first; start < window_.size(); start += block) {
+      double block_sum = 0.0;
+      for (std::size_t i = start; i < start + block; ++i) {
+        block_sum += angle_difference(window_[i].angles.*angle, reference);
+      }
+      const double deviation = block_sum / static_cast<double>(block) - offset_mean;
+      sum_squares += deviation * deviation;
+    }
+    std.*angle = std::sqrt(sum_squares / (static_cast<double>(blocks) - 1.0));
   }
   return largest(std) < options_.max_window_std;
 }
@@ -217,6 +226,8 @@ FrameVerdict TemporalFilter::add(double time_s, const std::optional<EulerAngles>
   std::optional<FrameVerdict> rejected = motion_gate(motion, options_);
   if (!rejected && (!angles || !std::isfinite(angles->roll) || !std::isfinite(angles->pitch) ||
                     !std::isfinite(angles->yaw))) {
+    // A hole, or the stretch's end (options); a gap too long ends it below, at the next estimate.
+    if (!options_.unusable_frame_ends_stretch) return FrameVerdict::kNoEstimate;
     rejected = FrameVerdict::kNoEstimate;
   }
   if (rejected) {

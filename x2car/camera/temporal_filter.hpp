@@ -7,9 +7,10 @@
 // (eq:camera_R3 - eq:camera_roll). Here:
 //   - a stretch is a run of usable frames (the estimator gave angles; the car, when its motion is
 //     known, fast enough and not turning) with no gap longer than max_gap_s; a gated or unusable
-//     frame, or a gap, ends it;
-//   - a window is the last window_frames frames of a stretch; it passes when the std of each of
-//     roll, pitch and yaw over it is below max_window_std. A passing window is recorded and the
+//     frame, or a gap, ends it (an unusable one may instead leave a hole: options);
+//   - a window is the last window_frames usable frames of a stretch; it passes when the std of
+//     each of roll, pitch and yaw over it is below max_window_std (for a noisy estimator: the std
+//     of the means of blocks of its frames, options). A passing window is recorded and the
 //     next one starts after it, so windows never share frames (the paper slides its window; the
 //     disjoint windows here count each frame once and make the spread between windows an honest
 //     measure of their error);
@@ -73,6 +74,21 @@ struct TemporalFilterOptions {
   int window_frames = 100;
   // The paper's threshold e = 0.005 rad on the std of each angle over a window (§IV-A).
   double max_window_std = 0.005;  // [rad]
+  // The window's test on the means of consecutive blocks of this many frames instead of on each
+  // frame's angles (1: the paper's test). An estimator whose angles scatter from frame to frame
+  // with no memory (the road plane between two frames: ~0.3 deg a frame; the learned network's:
+  // ~0.5 deg) never passes the paper's test on a straight road, though its window's mean is
+  // good to a few hundredths of a degree; the means of 10 frames (1 s at 10 Hz) scatter by a third
+  // of that, and still show every change of the car's heading or body that lasts a second or more
+  // (a turn, a curve, a braking), which is what the test is for. The oldest frames of a window
+  // left over by the blocks are in none. At most half of window_frames.
+  int steadiness_block_frames = 1;
+  // Whether a frame the estimator gave no angles for ends the stretch (the paper's: its window is
+  // n consecutive estimates). An estimator that fails at random frames (a pair whose tracks found
+  // no road plane) says nothing about the road there; with false such a frame only leaves a hole,
+  // and the stretch ends at a gap longer than max_gap_s (a stop, a turn the estimator cannot
+  // follow).
+  bool unusable_frame_ends_stretch = true;
   // A gap between frames longer than this ends a stretch [s] (10 dropped frames at 10 Hz).
   double max_gap_s = 1.0;
   // Motion gate, applied only to frames that come with a VehicleMotion: slower than this the road
@@ -150,7 +166,8 @@ struct FilterWindow {
   double start_time = 0.0;  // [s]
   double end_time = 0.0;
   EulerAngles mean;  // [rad]
-  // Of the frames in it [rad]; the road plane's roll and pitch: their means' standard errors.
+  // Of the frames in it (of its blocks' means with steadiness_block_frames) [rad]; the road
+  // plane's roll and pitch: their means' standard errors.
   EulerAngles std;
   // The frames whose road-plane angles made the window's roll and pitch (0: they are the steady
   // angles').

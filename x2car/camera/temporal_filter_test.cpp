@@ -96,6 +96,84 @@ TEST(TemporalFilter, UnsteadyFramesNeverPass) {
       << estimate.reason;
 }
 
+// An estimator that scatters by 0.5 deg a frame (the learned network's, twice one road-plane
+// pair's) never passes the paper's test on each frame, though 100 frames' mean is good to 0.05 deg;
+// its blocks of 10 frames scatter by 0.16 deg and pass. A bend that leads the yaw by 1 deg for 3 s
+// (30 frames) still fails the blocks' test.
+TEST(TemporalFilter, ANoisyEstimatorIsTestedOnBlocksOfFrames) {
+  const double sigma = rad_from_deg(0.5);
+  {
+    TemporalFilter filter;
+    NoisyFrames frames(sigma);
+    for (int i = 0; i < 400; ++i) filter.add(0.1 * i, frames.next());
+    EXPECT_FALSE(filter.current().ok);
+  }
+  TemporalFilterOptions options;
+  options.steadiness_block_frames = 10;
+  TemporalFilter filter(options);
+  NoisyFrames frames(sigma);
+  for (int i = 0; i < 400; ++i) filter.add(0.1 * i, frames.next());
+  const FilterEstimate estimate = filter.current();
+  ASSERT_TRUE(estimate.ok) << estimate.reason;
+  EXPECT_EQ(estimate.windows, 4U);
+  // 400 frames of 0.5 deg: the mean is good to 0.025 deg (one sigma).
+  EXPECT_NEAR(deg_from_rad(estimate.angles.roll), deg_from_rad(kTruth.roll), 0.1);
+  EXPECT_NEAR(deg_from_rad(estimate.angles.pitch), deg_from_rad(kTruth.pitch), 0.1);
+  EXPECT_NEAR(deg_from_rad(estimate.angles.yaw), deg_from_rad(kTruth.yaw), 0.1);
+  // A window's spread is its blocks' (0.5 / sqrt(10) = 0.16 deg), not its frames'.
+  for (const FilterWindow& window : filter.windows()) {
+    EXPECT_LT(deg_from_rad(window.std.yaw), 0.286);
+    EXPECT_GT(deg_from_rad(window.std.yaw), 0.05);
+  }
+
+  TemporalFilter bend_filter(options);
+  NoisyFrames bend_frames(sigma);
+  EulerAngles led = kTruth;
+  led.yaw += rad_from_deg(1.0);
+  for (int i = 0; i < 400; ++i) {
+    // 3 s of every 10 s in the bend: every window of 100 frames holds some of it.
+    bend_filter.add(0.1 * i, bend_frames.next(i % 100 >= 40 && i % 100 < 70 ? led : kTruth));
+  }
+  EXPECT_FALSE(bend_filter.current().ok);
+  EXPECT_NE(bend_filter.current().reason.find("no window of 100 frames was steady"),
+            std::string::npos)
+      << bend_filter.current().reason;
+}
+
+// A noisy estimator fails at random frames (a pair without a road plane): with
+// unusable_frame_ends_stretch off such a frame leaves a hole, where the paper's stretch ends; a
+// gap longer than max_gap_s still ends it.
+TEST(TemporalFilter, AFailedFrameMayLeaveAHoleInsteadOfEndingTheStretch) {
+  const auto feed = [](TemporalFilter& filter, double start_s) {
+    NoisyFrames frames(0.001);
+    for (int i = 0; i < 150; ++i) {
+      filter.add(start_s + 0.1 * i,
+                 i % 5 == 4 ? std::nullopt : std::optional<EulerAngles>(frames.next()));
+    }
+  };
+  {
+    TemporalFilter filter;
+    feed(filter, 0.0);
+    EXPECT_EQ(filter.longest_stretch(), 4U);
+    EXPECT_FALSE(filter.current().ok);
+  }
+  TemporalFilterOptions options;
+  options.unusable_frame_ends_stretch = false;
+  TemporalFilter filter(options);
+  feed(filter, 0.0);
+  EXPECT_EQ(filter.usable_frames(), 120U);
+  EXPECT_EQ(filter.longest_stretch(), 120U);
+  ASSERT_TRUE(filter.current().ok) << filter.current().reason;
+  ASSERT_EQ(filter.windows().size(), 1U);
+  // Every fifth frame is a hole: frame 123 is the 100th usable one.
+  EXPECT_EQ(filter.windows()[0].last_frame, 123U);
+  EXPECT_EQ(filter.add(15.0, std::nullopt), FrameVerdict::kNoEstimate);
+  // 1.5 s without an estimate: the stretch ends.
+  EXPECT_EQ(filter.add(16.5, kTruth), FrameVerdict::kBuffered);
+  feed(filter, 16.6);
+  EXPECT_EQ(filter.longest_stretch(), 121U);
+}
+
 // Turning and slow frames are gated out when the motion is known: the biased angles a turn gives
 // (the road's direction is not the car's) never reach the estimate.
 TEST(TemporalFilter, GatesTurnsAndSlowFramesByTheCarsMotion) {
@@ -317,6 +395,11 @@ TEST(TemporalFilter, RejectsTimesOutOfOrderAndBadOptions) {
   EXPECT_THROW(TemporalFilter{options}, std::invalid_argument);
   options = {};
   options.max_window_std = 0.0;
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+  options = {};
+  options.steadiness_block_frames = 51;  // fewer than two blocks in a window
+  EXPECT_THROW(options.Check(), std::invalid_argument);
+  options.steadiness_block_frames = 0;
   EXPECT_THROW(options.Check(), std::invalid_argument);
   EXPECT_NO_THROW(TemporalFilterOptions{}.Check());
 }
