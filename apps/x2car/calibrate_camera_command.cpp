@@ -232,7 +232,8 @@ RunCommand setup_calibrate_camera_command(CLI::App& command) {
   command
       .add_option("--estimator", arguments->estimator,
                   "Per-frame estimator: geometric (lines' vanishing point, gravity's horizon), "
-                  "motion (the car's travel and the road plane between frames), auto (yaw and the "
+                  "motion (the car's travel and the road plane between frames; noisy frame by "
+                  "frame, so its windows are tested on blocks of 10 frames), auto (yaw and the "
                   "steady windows from the lines, roll and pitch from the road plane and the "
                   "travel; without --ins the road's motion in the images gates curves and "
                   "accelerations), learned (the paper's network, --model)")
