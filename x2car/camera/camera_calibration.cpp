@@ -9,6 +9,8 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <map>
+#include <mutex>
 #include <opencv2/core.hpp>
 #include <thread>
 
@@ -120,9 +122,43 @@ cv::Mat read_frame(const CameraFrameSource& frames, const core::CameraIntrinsics
   return image;
 }
 
-// The motion estimate of frame `index` from it and the frames before (decoded again here: frames
-// are estimated in parallel, in no order). Each step between them at most max_pair_gap_s.
-FrameEstimate estimate_sequence(const CameraFrameSource& frames,
+// read_frame through a cache of the frames decoded last: the motion estimator pairs each frame
+// with the ones before it, and frames are estimated in parallel, in no fixed order, so without it
+// every frame is decoded tracked_frames times (decoding a PNG is a quarter of the motion
+// estimator's time). At most `capacity` frames are kept (0: none), the lowest index evicted first;
+// one evicted before its last use is decoded again, so what is estimated never depends on the
+// order. Two threads that miss the same frame at once both decode it.
+class FrameReader {
+ public:
+  FrameReader(const CameraFrameSource& frames, const core::CameraIntrinsics& intrinsics,
+              std::size_t capacity)
+      : frames_(frames), intrinsics_(intrinsics), capacity_(capacity) {}
+
+  cv::Mat read(std::size_t index) {
+    if (capacity_ == 0) return read_frame(frames_, intrinsics_, index);
+    {
+      const std::lock_guard lock(mutex_);
+      const auto found = kept_.find(index);
+      if (found != kept_.end()) return found->second;
+    }
+    cv::Mat image = read_frame(frames_, intrinsics_, index);
+    const std::lock_guard lock(mutex_);
+    kept_.emplace(index, image);
+    while (kept_.size() > capacity_) kept_.erase(kept_.begin());
+    return image;
+  }
+
+ private:
+  const CameraFrameSource& frames_;
+  const core::CameraIntrinsics& intrinsics_;
+  std::size_t capacity_;
+  std::mutex mutex_;
+  std::map<std::size_t, cv::Mat> kept_;
+};
+
+// The motion estimate of frame `index` from it and the frames before (read through the cache:
+// frames are estimated in parallel, in no order). Each step between them at most max_pair_gap_s.
+FrameEstimate estimate_sequence(const CameraFrameSource& frames, FrameReader& reader,
                                 const core::CameraIntrinsics& intrinsics,
                                 const CameraCalibrationOptions& options,
                                 const SequenceEstimator& estimator, std::size_t index,
@@ -138,8 +174,7 @@ FrameEstimate estimate_sequence(const CameraFrameSource& frames,
   std::vector<cv::Mat> sequence;
   sequence.reserve(span);
   try {
-    for (std::size_t i = first; i < index; ++i)
-      sequence.push_back(read_frame(frames, intrinsics, i));
+    for (std::size_t i = first; i < index; ++i) sequence.push_back(reader.read(i));
   } catch (const InputError&) {
     // Its own turn in the pipeline reports it (or counts it, with skip_bad_images).
     if (!options.skip_bad_images) throw;
@@ -163,7 +198,8 @@ FrameEstimate combine(const FrameEstimate& lines, const FrameEstimate& road) {
 }
 
 // The parallel stage: gate, decode, check the size, estimate, turn into angles.
-void estimate_frame(const CameraFrameSource& frames, const core::CameraIntrinsics& intrinsics,
+void estimate_frame(const CameraFrameSource& frames, FrameReader& reader,
+                    const core::CameraIntrinsics& intrinsics,
                     const CameraCalibrationOptions& options, const Estimators& estimators,
                     std::size_t index, FrameRecord& record) {
   if (motion_gate(motion_at(frames, index), options.filter)) {
@@ -172,7 +208,7 @@ void estimate_frame(const CameraFrameSource& frames, const core::CameraIntrinsic
   }
   cv::Mat image;
   try {
-    image = read_frame(frames, intrinsics, index);
+    image = reader.read(index);
   } catch (const InputError& error) {
     if (!options.skip_bad_images) throw;
     record.read_error = error.what();
@@ -183,14 +219,14 @@ void estimate_frame(const CameraFrameSource& frames, const core::CameraIntrinsic
     record.estimate = lines;
     if (lines.usable()) {
       const FrameEstimate road =
-          estimate_sequence(frames, intrinsics, options, estimators.sequence, index, image,
+          estimate_sequence(frames, reader, intrinsics, options, estimators.sequence, index, image,
                             SequenceGuide{lines.road_vanishing_point_px, lines.horizon_line});
       record.estimate = combine(lines, road);
       record.road_plane_rejection = road.rejection;
     }
   } else if (estimators.sequence) {
-    record.estimate = estimate_sequence(frames, intrinsics, options, estimators.sequence, index,
-                                        image, estimators.sequence_guide);
+    record.estimate = estimate_sequence(frames, reader, intrinsics, options, estimators.sequence,
+                                        index, image, estimators.sequence_guide);
   } else {
     record.estimate = estimators.single(image, intrinsics);
   }
@@ -237,7 +273,8 @@ struct FirstLook {
   std::optional<SequenceGuide> guide;  // its vanishing point and horizon
 };
 
-FirstLook first_look(const CameraFrameSource& frames, const core::CameraIntrinsics& intrinsics,
+FirstLook first_look(const CameraFrameSource& frames, FrameReader& reader,
+                     const core::CameraIntrinsics& intrinsics,
                      const CameraCalibrationOptions& options, const SequenceEstimator& estimator) {
   FirstLook look;
   if (options.motion_guide_frame_step == 0) return look;
@@ -249,9 +286,9 @@ FirstLook first_look(const CameraFrameSource& frames, const core::CameraIntrinsi
     const std::size_t index = sample * step + step - 1;
     if (motion_gate(motion_at(frames, index), options.filter)) return;
     try {
-      const cv::Mat image = read_frame(frames, intrinsics, index);
-      const FrameEstimate estimate =
-          estimate_sequence(frames, intrinsics, options, estimator, index, image, std::nullopt);
+      const cv::Mat image = reader.read(index);
+      const FrameEstimate estimate = estimate_sequence(frames, reader, intrinsics, options,
+                                                       estimator, index, image, std::nullopt);
       if (!estimate.usable()) return;
       angles[sample] = vehicle_from_camera_angles(estimate.road_vanishing_point_px,
                                                   estimate.horizon_line, camera_matrix);
@@ -283,8 +320,13 @@ FirstLook first_look(const CameraFrameSource& frames, const core::CameraIntrinsi
   return look;
 }
 
+// Frames the pipeline estimates at once.
+std::size_t frames_in_flight() {
+  return 2 * std::max<std::size_t>(2, std::thread::hardware_concurrency());
+}
+
 // Every frame through the estimator (in parallel) and the filter (in order).
-std::vector<FrameRecord> run_frames(const CameraFrameSource& frames,
+std::vector<FrameRecord> run_frames(const CameraFrameSource& frames, FrameReader& reader,
                                     const core::CameraIntrinsics& intrinsics,
                                     const CameraCalibrationOptions& options,
                                     const Estimators& estimators, TemporalFilter& filter,
@@ -295,7 +337,7 @@ std::vector<FrameRecord> run_frames(const CameraFrameSource& frames,
   std::size_t next = 0;
   std::exception_ptr first_error;
   std::atomic<bool> stopping = false;
-  const std::size_t in_flight = 2 * std::max<std::size_t>(2, std::thread::hardware_concurrency());
+  const std::size_t in_flight = frames_in_flight();
   // No exception may leave a filter (a cancelled pipeline leaks its tokens' work): the first error
   // in frame order stops the reading and is rethrown once the pipeline has drained.
   tbb::parallel_pipeline(
@@ -313,7 +355,8 @@ std::vector<FrameRecord> run_frames(const CameraFrameSource& frames,
               [&](std::size_t index) {
                 if (stopping.load()) return index;
                 try {
-                  estimate_frame(frames, intrinsics, options, estimators, index, records[index]);
+                  estimate_frame(frames, reader, intrinsics, options, estimators, index,
+                                 records[index]);
                 } catch (...) {
                   records[index].error = std::current_exception();
                 }
@@ -437,15 +480,21 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
                             const core::CameraIntrinsics& intrinsics,
                             const CameraCalibrationOptions& options) {
   Estimators estimators = make_estimators(options);
+  // The frames in flight and the ones before them that their pairs need (none without pairs).
+  const std::size_t in_flight = frames_in_flight();
+  FrameReader reader(frames, intrinsics,
+                     estimators.sequence
+                         ? 2 * in_flight + static_cast<std::size_t>(options.motion.tracked_frames)
+                         : 0);
   FirstLook look;
   if (estimators.sequence && !estimators.single) {
-    look = first_look(frames, intrinsics, options, estimators.sequence);
+    look = first_look(frames, reader, intrinsics, options, estimators.sequence);
     estimators.sequence_guide = look.guide;
   }
   TemporalFilter filter(filter_options(options));
   std::vector<FrameVerdict> verdicts;
   const std::vector<FrameRecord> records =
-      run_frames(frames, intrinsics, options, estimators, filter, verdicts);
+      run_frames(frames, reader, intrinsics, options, estimators, filter, verdicts);
   const FilterEstimate estimate = filter.current();
 
   CalibrationResult result;

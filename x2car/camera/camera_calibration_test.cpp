@@ -199,6 +199,26 @@ TEST(CalibrateCamera, MotionPairsFramesAndCountsWhyNot) {
   EXPECT_THROW(calibrate_camera(frames, core::camera_preset("kitti"), bad), std::invalid_argument);
 }
 
+// The motion estimator pairs each frame with the one before it, and frames are estimated in
+// parallel: each frame is decoded once for both turns (the calibrator keeps the frames decoded
+// last), not twice. The first look decodes its every 10th frame and the one before it again.
+TEST(CalibrateCamera, MotionDecodesEachFrameOnce) {
+  CameraFrameSource frames = street_drive(40);
+  std::atomic<int> reads = 0;
+  const auto draw = frames.read;
+  frames.read = [&reads, draw](std::size_t index) {
+    ++reads;
+    return draw(index);
+  };
+  CameraCalibrationOptions options = short_windows();
+  options.method = CameraMethod::kMotion;
+  calibrate_camera(frames, core::camera_preset("kitti"), options);
+  // Without the cache: 40 + 39 + the first look's 2 x 4 = 87; with it 48, and a few more when two
+  // threads miss the same frame at once.
+  EXPECT_GE(reads.load(), 40);
+  EXPECT_LE(reads.load(), 60);
+}
+
 TEST(CalibrateCamera, RejectsABadSourceOrOptions) {
   CameraFrameSource frames = street_drive(3);
   frames.times[2] = frames.times[1];
