@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <deque>
 #include <exception>
 #include <map>
 #include <mutex>
@@ -125,9 +126,10 @@ cv::Mat read_frame(const CameraFrameSource& frames, const core::CameraIntrinsics
 // read_frame through a cache of the frames decoded last: the motion estimator pairs each frame
 // with the ones before it, and frames are estimated in parallel, in no fixed order, so without it
 // every frame is decoded tracked_frames times (decoding a PNG is a quarter of the motion
-// estimator's time). At most `capacity` frames are kept (0: none), the lowest index evicted first;
-// one evicted before its last use is decoded again, so what is estimated never depends on the
-// order. Two threads that miss the same frame at once both decode it.
+// estimator's time). At most `capacity` frames are kept (0: none), the one decoded first evicted
+// first (not the lowest index: the first look's frames lie all over the drive); one evicted before
+// its last use is decoded again, so what is estimated never depends on the order. Two threads that
+// miss the same frame at once both decode it.
 class FrameReader {
  public:
   FrameReader(const CameraFrameSource& frames, const core::CameraIntrinsics& intrinsics,
@@ -143,8 +145,11 @@ class FrameReader {
     }
     cv::Mat image = read_frame(frames_, intrinsics_, index);
     const std::lock_guard lock(mutex_);
-    kept_.emplace(index, image);
-    while (kept_.size() > capacity_) kept_.erase(kept_.begin());
+    if (kept_.emplace(index, image).second) decoded_order_.push_back(index);
+    while (kept_.size() > capacity_) {
+      kept_.erase(decoded_order_.front());
+      decoded_order_.pop_front();
+    }
     return image;
   }
 
@@ -154,6 +159,7 @@ class FrameReader {
   std::size_t capacity_;
   std::mutex mutex_;
   std::map<std::size_t, cv::Mat> kept_;
+  std::deque<std::size_t> decoded_order_;  // the indices in kept_, oldest first
 };
 
 // The motion estimate of frame `index` from it and the frames before (read through the cache:
