@@ -39,6 +39,16 @@ CameraFrameSource street_drive(std::size_t count, double turn_rate = 0.0) {
   return frames;
 }
 
+// The exact vanishing point and horizon of a camera mounted at `mounting`, as an estimator's.
+FrameEstimate exact_estimate(const EulerAngles& mounting, const core::CameraIntrinsics& camera) {
+  const std::optional<VanishingGeometry> geometry =
+      vanishing_geometry_from_rotation(rotation_from_euler(mounting), camera.camera_matrix());
+  FrameEstimate estimate;
+  estimate.road_vanishing_point_px = geometry->vanishing_point_px;
+  estimate.horizon_line = geometry->horizon_line;
+  return estimate;
+}
+
 CameraCalibrationOptions short_windows() {
   CameraCalibrationOptions options;
   options.filter.window_frames = 12;  // the paper's 100 at 10 Hz is 10 s; the tests drive ~4 s
@@ -252,12 +262,7 @@ TEST(CalibrateCamera, WindowsThatDisagreeAreUnreliable) {
     const bool second = image.at<std::uint8_t>(0, 0) >= 12;
     const EulerAngles mounting{kMounting.roll, kMounting.pitch,
                                kMounting.yaw + (second ? rad_from_deg(1.0) : 0.0)};
-    const std::optional<VanishingGeometry> geometry =
-        vanishing_geometry_from_rotation(rotation_from_euler(mounting), camera.camera_matrix());
-    FrameEstimate estimate;
-    estimate.road_vanishing_point_px = geometry->vanishing_point_px;
-    estimate.horizon_line = geometry->horizon_line;
-    return estimate;
+    return exact_estimate(mounting, camera);
   };
   const CalibrationResult result = calibrate_camera(frames, intrinsics, options);
   EXPECT_EQ(result.status, CalibrationStatus::kUnreliable);
@@ -291,12 +296,7 @@ TEST(CalibrateCamera, AnEstimatorThatScattersIsFilteredOnBlocksOfFrames) {
     std::normal_distribution<double> noise(0.0, rad_from_deg(0.5));
     const EulerAngles angles{kMounting.roll + noise(random), kMounting.pitch + noise(random),
                              kMounting.yaw + noise(random)};
-    const std::optional<VanishingGeometry> geometry =
-        vanishing_geometry_from_rotation(rotation_from_euler(angles), camera.camera_matrix());
-    FrameEstimate estimate;
-    estimate.road_vanishing_point_px = geometry->vanishing_point_px;
-    estimate.horizon_line = geometry->horizon_line;
-    return estimate;
+    return exact_estimate(angles, camera);
   };
   const CalibrationResult frame_by_frame = calibrate_camera(frames, intrinsics, options);
   EXPECT_EQ(frame_by_frame.status, CalibrationStatus::kInsufficientData);
