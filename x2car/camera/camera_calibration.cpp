@@ -497,7 +497,8 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
     look = first_look(frames, reader, intrinsics, options, estimators.sequence);
     estimators.sequence_guide = look.guide;
   }
-  TemporalFilter filter(filter_options(options));
+  const TemporalFilterOptions run_filter = filter_options(options);
+  TemporalFilter filter(run_filter);
   std::vector<FrameVerdict> verdicts;
   const std::vector<FrameRecord> records =
       run_frames(frames, reader, intrinsics, options, estimators, filter, verdicts);
@@ -518,6 +519,11 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
         static_cast<std::int64_t>(estimate.windows_refused_accelerating);
   }
   count_frames(records, verdicts, result);
+  if (run_filter.steadiness_block_frames > 1) {
+    // A noisy estimator's windows were tested on blocks of frames (filter_options).
+    result.diagnostics["steadiness_block_frames"] =
+        static_cast<double>(run_filter.steadiness_block_frames);
+  }
   if (options.motion_guide_frame_step > 0 && estimators.sequence && !estimators.single) {
     result.diagnostics["motion_first_look_frames"] = static_cast<double>(look.frames);
     if (look.guide) {

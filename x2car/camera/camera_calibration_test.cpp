@@ -301,12 +301,14 @@ TEST(CalibrateCamera, AnEstimatorThatScattersIsFilteredOnBlocksOfFrames) {
   const CalibrationResult frame_by_frame = calibrate_camera(frames, intrinsics, options);
   EXPECT_EQ(frame_by_frame.status, CalibrationStatus::kInsufficientData);
   EXPECT_EQ(frame_by_frame.support.at("longest_stretch"), 6);
+  EXPECT_EQ(frame_by_frame.diagnostics.count("steadiness_block_frames"), 0U);
 
   options.estimator_scatters = true;
   const CalibrationResult result = calibrate_camera(frames, intrinsics, options);
   ASSERT_TRUE(result.ok()) << result.reason;
   EXPECT_EQ(result.support.at("windows"), 2);
   EXPECT_EQ(result.support.at("usable_frames"), 258);
+  EXPECT_EQ(result.diagnostics.at("steadiness_block_frames"), 10.0);
   // 200 frames of 0.5 deg: the mean is good to 0.035 deg (one sigma).
   EXPECT_THAT(*result.roll, AngleNearDeg(kMounting.roll, 0.15));
   EXPECT_THAT(*result.pitch, AngleNearDeg(kMounting.pitch, 0.15));
@@ -335,6 +337,7 @@ TEST(CalibrateCamera, MotionAloneGuidesItselfByAFirstLookAndCalibrates) {
   ASSERT_TRUE(result.ok()) << result.reason;
   EXPECT_EQ(result.method, "motion");
   EXPECT_EQ(result.diagnostics.at("motion_first_look_frames"), 6.0);
+  EXPECT_EQ(result.diagnostics.at("steadiness_block_frames"), 6.0);  // half the window of 12
   EXPECT_NEAR(result.diagnostics.at("motion_guide_yaw_deg"), 3.5, 0.15);
   EXPECT_NEAR(result.diagnostics.at("motion_guide_roll_deg"), 0.8, 0.15);
   EXPECT_GE(result.support.at("windows"), 2);
