@@ -49,6 +49,14 @@ FrameEstimate exact_estimate(const EulerAngles& mounting, const core::CameraIntr
   return estimate;
 }
 
+// Counts the frames' decodes in `reads` (which must outlive the source).
+void count_reads(CameraFrameSource& frames, std::atomic<int>& reads) {
+  frames.read = [&reads, draw = frames.read](std::size_t index) {
+    ++reads;
+    return draw(index);
+  };
+}
+
 CameraCalibrationOptions short_windows() {
   CameraCalibrationOptions options;
   options.filter.window_frames = 12;  // the paper's 100 at 10 Hz is 10 s; the tests drive ~4 s
@@ -118,11 +126,7 @@ TEST(CalibrateCamera, WithoutTheCarsMotionThePitchStandardErrorHoldsTheBodysPitc
 TEST(CalibrateCamera, GatesByTheCarsMotionBeforeDecoding) {
   CameraFrameSource frames = street_drive(30);
   std::atomic<int> decoded = 0;
-  const auto draw = frames.read;
-  frames.read = [&decoded, draw](std::size_t index) {
-    ++decoded;
-    return draw(index);
-  };
+  count_reads(frames, decoded);
   for (std::size_t i = 0; i < 30; ++i) {
     frames.motion.push_back(i < 10 ? VehicleMotion{1.0, 0.0} : VehicleMotion{10.0, 0.3});
   }
@@ -216,11 +220,7 @@ TEST(CalibrateCamera, MotionPairsFramesAndCountsWhyNot) {
 TEST(CalibrateCamera, MotionDecodesEachFrameOnce) {
   CameraFrameSource frames = street_drive(40);
   std::atomic<int> reads = 0;
-  const auto draw = frames.read;
-  frames.read = [&reads, draw](std::size_t index) {
-    ++reads;
-    return draw(index);
-  };
+  count_reads(frames, reads);
   CameraCalibrationOptions options = short_windows();
   options.method = CameraMethod::kMotion;
   options.motion_guide_frame_step = 4;
