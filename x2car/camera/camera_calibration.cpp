@@ -269,7 +269,7 @@ void estimate_frame(const CameraFrameSource& frames, FrameReader& reader,
   }
 }
 
-// motion alone: the road plane of every motion_guide_frame_step-th frame without a guide (in
+// motion alone: the road plane of every motion_guide_frame_step-th frame (> 0) without a guide (in
 // parallel), and the mounting of the median of their angles as the guide of every frame; nothing
 // when fewer than motion_guide_min_frames found it. Frames that fail here (gated, unreadable, no
 // road) are left to the run itself, which reports them.
@@ -283,7 +283,6 @@ FirstLook first_look(const CameraFrameSource& frames, FrameReader& reader,
                      const core::CameraIntrinsics& intrinsics,
                      const CameraCalibrationOptions& options, const SequenceEstimator& estimator) {
   FirstLook look;
-  if (options.motion_guide_frame_step == 0) return look;
   const auto step = static_cast<std::size_t>(options.motion_guide_frame_step);
   const std::size_t samples = frames.times.size() / step;
   std::vector<std::optional<EulerAngles>> angles(samples);
@@ -492,10 +491,10 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
                      estimators.sequence
                          ? 2 * in_flight + static_cast<std::size_t>(options.motion.tracked_frames)
                          : 0);
-  FirstLook look;
-  if (estimators.sequence && !estimators.single) {
+  std::optional<FirstLook> look;  // motion alone, unless motion_guide_frame_step is 0
+  if (estimators.sequence && !estimators.single && options.motion_guide_frame_step > 0) {
     look = first_look(frames, reader, intrinsics, options, estimators.sequence);
-    estimators.sequence_guide = look.guide;
+    estimators.sequence_guide = look->guide;
   }
   const TemporalFilterOptions run_filter = filter_options(options);
   TemporalFilter filter(run_filter);
@@ -524,12 +523,12 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
     result.diagnostics["steadiness_block_frames"] =
         static_cast<double>(run_filter.steadiness_block_frames);
   }
-  if (options.motion_guide_frame_step > 0 && estimators.sequence && !estimators.single) {
-    result.diagnostics["motion_first_look_frames"] = static_cast<double>(look.frames);
-    if (look.guide) {
-      result.diagnostics["motion_guide_roll_deg"] = deg_from_rad(look.typical->roll);
-      result.diagnostics["motion_guide_pitch_deg"] = deg_from_rad(look.typical->pitch);
-      result.diagnostics["motion_guide_yaw_deg"] = deg_from_rad(look.typical->yaw);
+  if (look) {
+    result.diagnostics["motion_first_look_frames"] = static_cast<double>(look->frames);
+    if (look->guide) {
+      result.diagnostics["motion_guide_roll_deg"] = deg_from_rad(look->typical->roll);
+      result.diagnostics["motion_guide_pitch_deg"] = deg_from_rad(look->typical->pitch);
+      result.diagnostics["motion_guide_yaw_deg"] = deg_from_rad(look->typical->yaw);
     }
   }
   if (options.keep_series) write_series(frames, records, filter, result);
