@@ -42,10 +42,27 @@ Eigen::Vector3d vector_from_cv(const cv::Mat& vector) {
   return {vector.at<double>(0), vector.at<double>(1), vector.at<double>(2)};
 }
 
-// One Lucas-Kanade step, forward and back: `points` move into `to`; those lost, or not back at
-// their start within max_forward_backward_px, or outside the image, are marked in `alive`.
-void track_step(const cv::Mat& from, const cv::Mat& to, const RoadPlaneMotionOptions& options,
-                std::vector<cv::Point2f>& points, std::vector<unsigned char>& alive) {
+// An image's Lucas-Kanade pyramid with its derivatives, `levels` above the image
+// (cv::buildOpticalFlowPyramid), built once for every tracking pass that reads the image. Given an
+// image, calcOpticalFlowPyrLK builds the very same pyramid on each call, and each image here is
+// read by two to six passes (forward and back, several seeds): the tracks are the same, the work
+// is not repeated.
+using Pyramid = std::vector<cv::Mat>;
+
+Pyramid lk_pyramid(const cv::Mat& image, const RoadPlaneMotionOptions& options, int levels) {
+  Pyramid pyramid;
+  cv::buildOpticalFlowPyramid(image, pyramid,
+                              cv::Size(options.tracking_window_px, options.tracking_window_px),
+                              levels, true);
+  return pyramid;
+}
+
+// One Lucas-Kanade step, forward and back: `points` move into `to` (an image of `size`); those
+// lost, or not back at their start within max_forward_backward_px, or outside the image, are
+// marked in `alive`.
+void track_step(const Pyramid& from, const Pyramid& to, const cv::Size& size,
+                const RoadPlaneMotionOptions& options, std::vector<cv::Point2f>& points,
+                std::vector<unsigned char>& alive) {
   const cv::Size window(options.tracking_window_px, options.tracking_window_px);
   const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01);
   std::vector<cv::Point2f> forward;
@@ -62,8 +79,8 @@ void track_step(const cv::Mat& from, const cv::Mat& to, const RoadPlaneMotionOpt
     const cv::Point2f miss = back[i] - points[i];
     const cv::Point2f& p = forward[i];
     if (!forward_ok[i] || !back_ok[i] || miss.dot(miss) > max_miss_squared || p.x < 0.0f ||
-        p.y < 0.0f || p.x > static_cast<float>(to.cols - 1) ||
-        p.y > static_cast<float>(to.rows - 1)) {
+        p.y < 0.0f || p.x > static_cast<float>(size.width - 1) ||
+        p.y > static_cast<float>(size.height - 1)) {
       alive[i] = 0;
     }
     points[i] = p;
@@ -89,15 +106,17 @@ cv::Mat homography_of_live_tracks(const RoadPlaneMotionOptions& options,
 
 // Step 1b (RoadPlaneMotionOptions::prewarp): the oldest image warped by `homography` (pixels) into
 // the current one's view, and each corner tracked again from its predicted place, forward and
-// back, through `levels` pyramid levels above the image. Through a lens with distortion the
-// pixels' homography is only a prediction; the second tracking absorbs the rest.
-void retrack_through_homography(const cv::Mat& oldest, const cv::Mat& current,
+// back, through `levels` pyramid levels above the image (`current` has at least as many). Through
+// a lens with distortion the pixels' homography is only a prediction; the second tracking absorbs
+// the rest.
+void retrack_through_homography(const cv::Mat& oldest, const Pyramid& current,
                                 const RoadPlaneMotionOptions& options, const cv::Mat& homography,
                                 int levels, const std::vector<cv::Point2f>& corners,
                                 std::vector<cv::Point2f>& points,
                                 std::vector<unsigned char>& alive) {
-  cv::Mat warped;
-  cv::warpPerspective(oldest, warped, homography, oldest.size(), cv::INTER_LINEAR);
+  cv::Mat warped_image;
+  cv::warpPerspective(oldest, warped_image, homography, oldest.size(), cv::INTER_LINEAR);
+  const Pyramid warped = lk_pyramid(warped_image, options, levels);
   std::vector<cv::Point2f> predicted;
   cv::perspectiveTransform(corners, predicted, homography);
   std::vector<cv::Point2f> tracked = predicted;
@@ -116,8 +135,8 @@ void retrack_through_homography(const cv::Mat& oldest, const cv::Mat& current,
     const cv::Point2f miss = back[i] - predicted[i];
     const cv::Point2f& p = tracked[i];
     alive[i] = forward_ok[i] && back_ok[i] && miss.dot(miss) <= max_miss_squared && p.x >= 0.0f &&
-               p.y >= 0.0f && p.x <= static_cast<float>(current.cols - 1) &&
-               p.y <= static_cast<float>(current.rows - 1);
+               p.y >= 0.0f && p.x <= static_cast<float>(oldest.cols - 1) &&
+               p.y <= static_cast<float>(oldest.rows - 1);
     points[i] = p;
   }
 }
@@ -268,7 +287,9 @@ RoadTracks live_tracks(const std::vector<cv::Point2f>& corners,
 
 // Step 1: Shi-Tomasi corners in the road region of the oldest frame, tracked frame by frame into
 // the current one, then (prewarp) again through the homography of those tracks.
+// `pyramids` are the greys', as many.
 RoadTracks track_road_points(const std::vector<cv::Mat>& greys,
+                             const std::vector<Pyramid>& pyramids,
                              const std::vector<cv::Point2f>& corners,
                              const RoadPlaneMotionOptions& options) {
   const cv::Mat& oldest = greys.front();
@@ -276,12 +297,12 @@ RoadTracks track_road_points(const std::vector<cv::Mat>& greys,
   std::vector<cv::Point2f> points = corners;
   std::vector<unsigned char> alive(points.size(), 1);
   for (std::size_t k = 1; k < greys.size(); ++k) {
-    track_step(greys[k - 1], greys[k], options, points, alive);
+    track_step(pyramids[k - 1], pyramids[k], oldest.size(), options, points, alive);
   }
   if (options.prewarp) {
     const cv::Mat homography = homography_of_live_tracks(options, corners, points, alive);
     if (!homography.empty()) {
-      retrack_through_homography(oldest, greys.back(), options, homography, 1, corners, points,
+      retrack_through_homography(oldest, pyramids.back(), options, homography, 1, corners, points,
                                  alive);
     }
   }
@@ -292,7 +313,7 @@ RoadTracks track_road_points(const std::vector<cv::Mat>& greys,
 // (down to `seeded_feature_quality`) tracked from where the seed puts them through two pyramid
 // levels (the guide's directions are a few tenths of a degree off, the nominal ones a few
 // degrees), then once more through the homography of those tracks, as step 1b.
-RoadTracks track_from_seed(const cv::Mat& oldest, const cv::Mat& current,
+RoadTracks track_from_seed(const cv::Mat& oldest, const Pyramid& current,
                            const std::vector<cv::Point2f>& corners,
                            const RoadPlaneMotionOptions& options, const Eigen::Matrix3d& seed_px) {
   if (corners.empty()) return {};
@@ -444,6 +465,29 @@ FrameEstimate fit_plane_to_tracks(const std::vector<Eigen::Vector2d>& previous_p
 
 }  // namespace
 
+// The mask's bounding box grown by 3 pixels: a pixel's response (3x3 derivatives summed over 3x3)
+// and its local-maximum test (3x3) read up to 3 pixels around it, and a sub-image's filters read
+// its parent's pixels, so every response the search keeps is the whole image's; equal responses
+// keep their row-by-row order.
+void corners_in_mask(const cv::Mat& image, const cv::Mat& mask, int max_corners, double quality,
+                     double min_distance_px, std::vector<cv::Point2f>& corners,
+                     std::vector<float>& responses) {
+  corners.clear();
+  responses.clear();
+  const cv::Rect mask_box = cv::boundingRect(mask);
+  if (mask_box.area() == 0) return;
+  constexpr int kMargin = 3;
+  const cv::Rect box = cv::Rect(mask_box.x - kMargin, mask_box.y - kMargin,
+                                mask_box.width + 2 * kMargin, mask_box.height + 2 * kMargin) &
+                       cv::Rect(0, 0, image.cols, image.rows);
+  cv::goodFeaturesToTrack(image(box), corners, max_corners, quality, min_distance_px, mask(box),
+                          responses);
+  for (cv::Point2f& corner : corners) {
+    corner.x += static_cast<float>(box.x);
+    corner.y += static_cast<float>(box.y);
+  }
+}
+
 FrameEstimate road_plane_from_tracks(const std::vector<Eigen::Vector2d>& previous_px,
                                      const std::vector<Eigen::Vector2d>& current_px,
                                      const core::CameraIntrinsics& intrinsics,
@@ -486,15 +530,23 @@ FrameEstimate fit_road_plane(const std::vector<cv::Mat>& greys,
   // seed (feature_quality) are a prefix of them (goodFeaturesToTrack's order and suppression).
   std::vector<cv::Point2f> corners;
   std::vector<float> corner_quality;
-  cv::goodFeaturesToTrack(oldest, corners, options.max_features,
-                          std::min(options.feature_quality, options.seeded_feature_quality),
-                          options.min_feature_distance_px, mask, corner_quality);
+  corners_in_mask(oldest, mask, options.max_features,
+                  std::min(options.feature_quality, options.seeded_feature_quality),
+                  options.min_feature_distance_px, corners, corner_quality);
+  // Each frame's pyramid, for every pass that tracks out of it or into it; the current one's deep
+  // enough for the second trackings' two levels too.
+  std::vector<Pyramid> pyramids;
+  if (!corners.empty()) {
+    for (const cv::Mat& grey : greys) {
+      pyramids.push_back(lk_pyramid(grey, options, std::max(options.pyramid_levels, 2)));
+    }
+  }
   const auto strong_end = std::find_if(
       corner_quality.begin(), corner_quality.end(),
       [&](float quality) { return quality < options.feature_quality * corner_quality.front(); });
   const std::vector<cv::Point2f> strong_corners(
       corners.begin(), corners.begin() + (strong_end - corner_quality.begin()));
-  used = track_road_points(greys, strong_corners, options);
+  used = track_road_points(greys, pyramids, strong_corners, options);
   Eigen::Matrix3d tracked_homography;
   FrameEstimate estimate =
       fit_plane_to_tracks(used.oldest_px, used.current_px, intrinsics, options, tracked_homography);
@@ -508,7 +560,8 @@ FrameEstimate fit_road_plane(const std::vector<cv::Mat>& greys,
   if (!seed) return estimate;
   const double tracked_correlation = estimate.usable() ? correlation(tracked_homography) : -1.0;
   if (options.seeded_feature_quality > options.feature_quality) corners = strong_corners;
-  RoadTracks searched = track_from_seed(oldest, current, corners, options, *seed);
+  if (corners.empty()) return estimate;
+  RoadTracks searched = track_from_seed(oldest, pyramids.back(), corners, options, *seed);
   Eigen::Matrix3d searched_homography;
   FrameEstimate from_search = fit_plane_to_tracks(searched.oldest_px, searched.current_px,
                                                   intrinsics, options, searched_homography);

@@ -37,6 +37,7 @@
 // from the parallax, which vanishes with the baseline.
 #pragma once
 
+#include <opencv2/core.hpp>
 #include <optional>
 #include <vector>
 
@@ -140,6 +141,14 @@ RoadTracks road_plane_tracks(const std::vector<cv::Mat>& frames,
                              const core::CameraIntrinsics& intrinsics,
                              const RoadPlaneMotionOptions& options = {},
                              const std::optional<SequenceGuide>& guide = std::nullopt);
+
+// Step 1's corners: Shi-Tomasi corners of `image` (8-bit grey) inside `mask` (8-bit, its size),
+// strongest first, at most `max_corners`, responses above `quality` of the strongest, at least
+// `min_distance_px` apart, with their responses: exactly those of cv::goodFeaturesToTrack over the
+// whole image, at the cost of the mask's bounding box (the road region is under half the image).
+void corners_in_mask(const cv::Mat& image, const cv::Mat& mask, int max_corners, double quality,
+                     double min_distance_px, std::vector<cv::Point2f>& corners,
+                     std::vector<float>& responses);
 
 // Steps 2-5 on tracks already made: `previous_px` (in the oldest frame) and `current_px` are
 // distorted pixels of the same road points (as many of each).

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 #include <random>
 #include <string>
 
@@ -283,6 +284,45 @@ TEST(RoadPlaneMotion, ImagesOfTheWrongSizeOrEmptyAreRejected) {
   const cv::Mat flat(intrinsics.height, intrinsics.width, CV_8UC1, cv::Scalar(90));
   EXPECT_EQ(*estimate_road_plane_motion({flat, flat, flat}, intrinsics).rejection,
             FrameRejection::kTooFewTracks);
+}
+
+// The corners are looked for around the road region only; they must be exactly those of the whole
+// image's search, for a mask in the image's middle, and for one on its edges.
+TEST(RoadPlaneMotion, CornersInTheMaskAreThoseOfTheWholeImage) {
+  cv::Mat noise(375, 1242, CV_8U);
+  cv::RNG random(11);
+  random.fill(noise, cv::RNG::UNIFORM, 0, 256);
+  cv::Mat texture;
+  cv::GaussianBlur(noise, texture, cv::Size(0, 0), 2.0);
+  const auto wedge = [&](int top, int bottom, int left, int right) {
+    cv::Mat mask = cv::Mat::zeros(texture.size(), CV_8U);
+    const std::vector<cv::Point> corners{{(left + right) / 2 - 20, top},
+                                         {(left + right) / 2 + 20, top},
+                                         {right, bottom},
+                                         {left, bottom}};
+    cv::fillConvexPoly(mask, corners, cv::Scalar(255));
+    return mask;
+  };
+  for (const cv::Mat& mask :
+       {wedge(225, 374, 100, 1141), wedge(120, 300, 400, 900), wedge(200, 374, 0, 1241)}) {
+    for (const double quality : {0.002, 0.0003}) {
+      std::vector<cv::Point2f> expected;
+      std::vector<float> expected_responses;
+      cv::goodFeaturesToTrack(texture, expected, 800, quality, 6.0, mask, expected_responses);
+      std::vector<cv::Point2f> corners;
+      std::vector<float> responses;
+      corners_in_mask(texture, mask, 800, quality, 6.0, corners, responses);
+      ASSERT_GT(expected.size(), 100U);
+      EXPECT_EQ(corners, expected);
+      EXPECT_EQ(responses, expected_responses);
+    }
+  }
+  std::vector<cv::Point2f> corners{{1.0F, 2.0F}};
+  std::vector<float> responses{1.0F};
+  corners_in_mask(texture, cv::Mat::zeros(texture.size(), CV_8U), 800, 0.002, 6.0, corners,
+                  responses);
+  EXPECT_TRUE(corners.empty());
+  EXPECT_TRUE(responses.empty());
 }
 
 TEST(RoadPlaneMotion, OptionsAreChecked) {
