@@ -69,11 +69,10 @@ void track_step(const Pyramid& from, const Pyramid& to, const cv::Size& size,
   std::vector<cv::Point2f> back;
   std::vector<unsigned char> forward_ok;
   std::vector<unsigned char> back_ok;
-  std::vector<float> errors;
-  cv::calcOpticalFlowPyrLK(from, to, points, forward, forward_ok, errors, window,
+  cv::calcOpticalFlowPyrLK(from, to, points, forward, forward_ok, cv::noArray(), window,
                            options.pyramid_levels, criteria);
-  cv::calcOpticalFlowPyrLK(to, from, forward, back, back_ok, errors, window, options.pyramid_levels,
-                           criteria);
+  cv::calcOpticalFlowPyrLK(to, from, forward, back, back_ok, cv::noArray(), window,
+                           options.pyramid_levels, criteria);
   const double max_miss_squared = options.max_forward_backward_px * options.max_forward_backward_px;
   for (std::size_t i = 0; i < points.size(); ++i) {
     const cv::Point2f miss = back[i] - points[i];
@@ -123,12 +122,11 @@ void retrack_through_homography(const cv::Mat& oldest, const Pyramid& current,
   std::vector<cv::Point2f> back;
   std::vector<unsigned char> forward_ok;
   std::vector<unsigned char> back_ok;
-  std::vector<float> errors;
   const cv::Size window(options.tracking_window_px, options.tracking_window_px);
   const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01);
-  cv::calcOpticalFlowPyrLK(warped, current, predicted, tracked, forward_ok, errors, window, levels,
-                           criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
-  cv::calcOpticalFlowPyrLK(current, warped, tracked, back, back_ok, errors, window, levels,
+  cv::calcOpticalFlowPyrLK(warped, current, predicted, tracked, forward_ok, cv::noArray(), window,
+                           levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
+  cv::calcOpticalFlowPyrLK(current, warped, tracked, back, back_ok, cv::noArray(), window, levels,
                            criteria);
   const double max_miss_squared = options.max_forward_backward_px * options.max_forward_backward_px;
   for (std::size_t i = 0; i < corners.size(); ++i) {
