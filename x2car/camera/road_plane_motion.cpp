@@ -163,7 +163,9 @@ class RoadCorrelation {
     cv::Scalar sd;
     cv::meanStdDev(current_float, current_mean_, sd, mask);
     current_sd_ = sd[0];
-    // The region's runs of pixels, row by row.
+    // The region's runs of pixels, row by row, each short enough for 32-bit sums
+    // (255^2 x 32767 < 2^31).
+    constexpr int kLongestRun = 32767;
     for (int row = 0; row < mask.rows; ++row) {
       const auto* in_mask = mask.ptr<unsigned char>(row);
       for (int column = 0; column < mask.cols;) {
@@ -172,7 +174,7 @@ class RoadCorrelation {
           continue;
         }
         const int first = column;
-        while (column < mask.cols && in_mask[column]) ++column;
+        while (column < mask.cols && in_mask[column] && column - first < kLongestRun) ++column;
         runs_.push_back({row, first, column});
         pixels_ += column - first;
       }
@@ -195,7 +197,6 @@ class RoadCorrelation {
     for (const Run& run : runs_) {
       const auto* warped = warped_.ptr<unsigned char>(run.row);
       const auto* current = current_.ptr<unsigned char>(run.row);
-      // A run is at most a row of the half image: its sums fit 32 bits (255^2 x 32767 < 2^31).
       std::int32_t run_sum = 0;
       std::int32_t run_squared = 0;
       std::int32_t run_product = 0;
