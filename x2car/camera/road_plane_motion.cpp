@@ -143,9 +143,9 @@ void retrack_through_homography(const cv::Mat& oldest, const Pyramid& current,
 // How well a homography (pixels) maps the oldest image onto the current one over the road region:
 // the zero-mean normalised correlation of the warped oldest image and the current one, both at
 // half resolution (the road's texture at the tracker's scale, at a quarter of the cost). The seed
-// search asks it for some 80 homographies a frame, so the warped image's sums (of w, w^2 and w c
-// over the region) are taken in one pass, row by row over the region's runs, in integers: exactly
-// the sums cv::meanStdDev and cv::mean form in doubles, at a fraction of their four passes.
+// search asks it for some 80 homographies a frame, so an image's sums (of w, w^2 and w c over the
+// region) are taken in one pass, row by row over the region's runs, in integers: exactly the sums
+// cv::meanStdDev and cv::mean form in doubles, at a fraction of their four passes.
 class RoadCorrelation {
  public:
   RoadCorrelation(const cv::Mat& oldest, const cv::Mat& current, const cv::Mat& road_mask) {
@@ -158,11 +158,6 @@ class RoadCorrelation {
     if (box_.area() == 0) return;
     const cv::Mat mask = mask_half(box_);
     current_ = current_half(box_);
-    cv::Mat current_float;
-    current_.convertTo(current_float, CV_32F);
-    cv::Scalar sd;
-    cv::meanStdDev(current_float, current_mean_, sd, mask);
-    current_sd_ = sd[0];
     // The region's runs of pixels, row by row, each short enough for 32-bit sums
     // (255^2 x 32767 < 2^31).
     constexpr int kLongestRun = 32767;
@@ -179,6 +174,9 @@ class RoadCorrelation {
         pixels_ += column - first;
       }
     }
+    const Sums current_sums = sums(current_);
+    current_mean_ = mean(current_sums);
+    current_sd_ = standard_deviation(current_sums);
     // Pixel (u, v) of the half image is (2u, 2v) of the whole one; the box starts at its corner.
     box_from_full_ << 0.5, 0.0, -box_.x, 0.0, 0.5, -box_.y, 0.0, 0.0, 1.0;
     half_to_full_ << 2.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 1.0;
@@ -191,33 +189,11 @@ class RoadCorrelation {
     cv::eigen2cv(in_box, in_box_cv_);
     cv::warpPerspective(oldest_half_, warped_, in_box_cv_, box_.size(), cv::INTER_LINEAR,
                         cv::BORDER_REPLICATE);
-    std::int64_t sum = 0;
-    std::int64_t sum_squared = 0;
-    std::int64_t sum_product = 0;
-    for (const Run& run : runs_) {
-      const auto* warped = warped_.ptr<unsigned char>(run.row);
-      const auto* current = current_.ptr<unsigned char>(run.row);
-      std::int32_t run_sum = 0;
-      std::int32_t run_squared = 0;
-      std::int32_t run_product = 0;
-      for (int column = run.first; column < run.end; ++column) {
-        const std::int32_t w = warped[column];
-        run_sum += w;
-        run_squared += w * w;
-        run_product += w * static_cast<std::int32_t>(current[column]);
-      }
-      sum += run_sum;
-      sum_squared += run_squared;
-      sum_product += run_product;
-    }
-    // As cv::meanStdDev and cv::mean finish theirs.
-    const double scale = 1.0 / static_cast<double>(pixels_);
-    const double mean = static_cast<double>(sum) * scale;
-    const double sd =
-        std::sqrt(std::max(static_cast<double>(sum_squared) * scale - mean * mean, 0.0));
+    const Sums warped_sums = sums(warped_);
+    const double sd = standard_deviation(warped_sums);
     if (sd <= 0.0) return -1.0;
-    const double product_mean = static_cast<double>(sum_product) * scale;
-    return (product_mean - mean * current_mean_[0]) / (sd * current_sd_);
+    const double product_mean = static_cast<double>(warped_sums.product) * scale();
+    return (product_mean - mean(warped_sums) * current_mean_) / (sd * current_sd_);
   }
 
  private:
@@ -226,12 +202,48 @@ class RoadCorrelation {
     int first;
     int end;
   };
+  struct Sums {
+    std::int64_t value = 0;
+    std::int64_t squared = 0;
+    std::int64_t product = 0;  // with the current image
+  };
+
+  // An 8-bit image of the box: its sums over the region.
+  Sums sums(const cv::Mat& image) const {
+    Sums total;
+    for (const Run& run : runs_) {
+      const auto* values = image.ptr<unsigned char>(run.row);
+      const auto* current = current_.ptr<unsigned char>(run.row);
+      std::int32_t run_value = 0;
+      std::int32_t run_squared = 0;
+      std::int32_t run_product = 0;
+      for (int column = run.first; column < run.end; ++column) {
+        const std::int32_t value = values[column];
+        run_value += value;
+        run_squared += value * value;
+        run_product += value * static_cast<std::int32_t>(current[column]);
+      }
+      total.value += run_value;
+      total.squared += run_squared;
+      total.product += run_product;
+    }
+    return total;
+  }
+  // Mean and standard deviation as cv::meanStdDev finishes its sums.
+  double scale() const { return 1.0 / static_cast<double>(pixels_); }
+  double mean(const Sums& sums) const { return static_cast<double>(sums.value) * scale(); }
+  double standard_deviation(const Sums& sums) const {
+    const double average = mean(sums);
+    return std::sqrt(
+        std::max(static_cast<double>(sums.squared) * scale() - average * average, 0.0));
+  }
+
   cv::Mat oldest_half_;
   cv::Rect box_;
   cv::Mat current_;  // the current image's box, 8-bit
   std::vector<Run> runs_;
   std::int64_t pixels_ = 0;
-  cv::Scalar current_mean_;
+  double current_mean_ = 0.0;
   double current_sd_ = 0.0;
   Eigen::Matrix3d box_from_full_;
   Eigen::Matrix3d half_to_full_;
@@ -357,11 +369,11 @@ RoadTracks track_road_points(const std::vector<cv::Mat>& greys,
 // Step 1 from the searched seed (RoadPlaneMotionOptions::max_seed_travel_over_height): corners
 // (down to `seeded_feature_quality`) tracked from where the seed puts them through two pyramid
 // levels (the guide's directions are a few tenths of a degree off, the nominal ones a few
-// degrees), then once more through the homography of those tracks, as step 1b.
+// degrees), then once more through the homography of those tracks, as step 1b. `corners` is not
+// empty.
 RoadTracks track_from_seed(const cv::Mat& oldest, const Pyramid& current,
                            const std::vector<cv::Point2f>& corners,
                            const RoadPlaneMotionOptions& options, const Eigen::Matrix3d& seed_px) {
-  if (corners.empty()) return {};
   std::vector<cv::Point2f> points(corners.size());
   std::vector<unsigned char> alive(corners.size(), 0);
   cv::Mat seed;
@@ -599,13 +611,13 @@ FrameEstimate fit_road_plane(const std::vector<cv::Mat>& greys,
       estimate.rejection == FrameRejection::kTooLittleMotion) {
     return estimate;
   }
+  if (options.seeded_feature_quality > options.feature_quality) corners = strong_corners;
+  if (corners.empty()) return estimate;  // nothing to track from a searched seed
   RoadCorrelation correlation(oldest, current, mask);
   const std::optional<Eigen::Matrix3d> seed =
       searched_seed(correlation, intrinsics, options, guide);
   if (!seed) return estimate;
   const double tracked_correlation = estimate.usable() ? correlation(tracked_homography) : -1.0;
-  if (options.seeded_feature_quality > options.feature_quality) corners = strong_corners;
-  if (corners.empty()) return estimate;
   RoadTracks searched = track_from_seed(oldest, pyramids.back(), corners, options, *seed);
   Eigen::Matrix3d searched_homography;
   FrameEstimate from_search = fit_plane_to_tracks(searched.oldest_px, searched.current_px,
