@@ -43,6 +43,14 @@ Eigen::Vector3d vector_from_cv(const cv::Mat& vector) {
   return {vector.at<double>(0), vector.at<double>(1), vector.at<double>(2)};
 }
 
+// Lucas-Kanade's window and its stop (OpenCV's defaults: 30 steps or 0.01 px).
+cv::Size tracking_window(const RoadPlaneMotionOptions& options) {
+  return {options.tracking_window_px, options.tracking_window_px};
+}
+cv::TermCriteria tracking_criteria() {
+  return {cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01};
+}
+
 // An image's Lucas-Kanade pyramid with its derivatives, `levels` above the image
 // (cv::buildOpticalFlowPyramid), built once for every tracking pass that reads the image. Given an
 // image, calcOpticalFlowPyrLK builds the very same pyramid on each call, and each image here is
@@ -52,10 +60,44 @@ using Pyramid = std::vector<cv::Mat>;
 
 Pyramid lk_pyramid(const cv::Mat& image, const RoadPlaneMotionOptions& options, int levels) {
   Pyramid pyramid;
-  cv::buildOpticalFlowPyramid(image, pyramid,
-                              cv::Size(options.tracking_window_px, options.tracking_window_px),
-                              levels, true);
+  cv::buildOpticalFlowPyramid(image, pyramid, tracking_window(options), levels, true);
   return pyramid;
+}
+
+// Whether a point tracked forward is kept: found, and inside an image of `size`.
+bool tracked_inside(unsigned char found, const cv::Point2f& point, const cv::Size& size) {
+  return found && point.x >= 0.0f && point.y >= 0.0f &&
+         point.x <= static_cast<float>(size.width - 1) &&
+         point.y <= static_cast<float>(size.height - 1);
+}
+
+// The forward-backward check of a tracking `from` -> `to`: `alive[i]` says whether point i,
+// started at `start[i]` and found at `tracked[i]` (`found[i]`, inside an image of `size`), tracks
+// back from there to within max_forward_backward_px of its start. Only the points kept forward are
+// tracked back: Lucas-Kanade tracks each point on its own, so theirs are the tracks a backward
+// pass over all of them gives, at the cost of the survivors only.
+void check_back(const Pyramid& from, const Pyramid& to, const cv::Size& size,
+                const RoadPlaneMotionOptions& options, int levels,
+                const std::vector<cv::Point2f>& start, const std::vector<cv::Point2f>& tracked,
+                const std::vector<unsigned char>& found, std::vector<unsigned char>& alive) {
+  std::vector<std::size_t> kept;
+  std::vector<cv::Point2f> kept_tracked;
+  for (std::size_t i = 0; i < tracked.size(); ++i) {
+    alive[i] = 0;
+    if (!tracked_inside(found[i], tracked[i], size)) continue;
+    kept.push_back(i);
+    kept_tracked.push_back(tracked[i]);
+  }
+  if (kept.empty()) return;
+  std::vector<cv::Point2f> back;
+  std::vector<unsigned char> back_found;
+  cv::calcOpticalFlowPyrLK(to, from, kept_tracked, back, back_found, cv::noArray(),
+                           tracking_window(options), levels, tracking_criteria());
+  const double max_miss_squared = options.max_forward_backward_px * options.max_forward_backward_px;
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    const cv::Point2f miss = back[k] - start[kept[k]];
+    alive[kept[k]] = back_found[k] && miss.dot(miss) <= max_miss_squared;
+  }
 }
 
 // One Lucas-Kanade step, forward and back: `points` move into `to` (an image of `size`); those
@@ -64,26 +106,15 @@ Pyramid lk_pyramid(const cv::Mat& image, const RoadPlaneMotionOptions& options, 
 void track_step(const Pyramid& from, const Pyramid& to, const cv::Size& size,
                 const RoadPlaneMotionOptions& options, std::vector<cv::Point2f>& points,
                 std::vector<unsigned char>& alive) {
-  const cv::Size window(options.tracking_window_px, options.tracking_window_px);
-  const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01);
   std::vector<cv::Point2f> forward;
-  std::vector<cv::Point2f> back;
   std::vector<unsigned char> forward_ok;
-  std::vector<unsigned char> back_ok;
-  cv::calcOpticalFlowPyrLK(from, to, points, forward, forward_ok, cv::noArray(), window,
-                           options.pyramid_levels, criteria);
-  cv::calcOpticalFlowPyrLK(to, from, forward, back, back_ok, cv::noArray(), window,
-                           options.pyramid_levels, criteria);
-  const double max_miss_squared = options.max_forward_backward_px * options.max_forward_backward_px;
+  cv::calcOpticalFlowPyrLK(from, to, points, forward, forward_ok, cv::noArray(),
+                           tracking_window(options), options.pyramid_levels, tracking_criteria());
+  std::vector<unsigned char> checked(points.size());
+  check_back(from, to, size, options, options.pyramid_levels, points, forward, forward_ok, checked);
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const cv::Point2f miss = back[i] - points[i];
-    const cv::Point2f& p = forward[i];
-    if (!forward_ok[i] || !back_ok[i] || miss.dot(miss) > max_miss_squared || p.x < 0.0f ||
-        p.y < 0.0f || p.x > static_cast<float>(size.width - 1) ||
-        p.y > static_cast<float>(size.height - 1)) {
-      alive[i] = 0;
-    }
-    points[i] = p;
+    alive[i] = alive[i] && checked[i];
+    points[i] = forward[i];
   }
 }
 
@@ -120,24 +151,13 @@ void retrack_through_homography(const cv::Mat& oldest, const Pyramid& current,
   std::vector<cv::Point2f> predicted;
   cv::perspectiveTransform(corners, predicted, homography);
   std::vector<cv::Point2f> tracked = predicted;
-  std::vector<cv::Point2f> back;
   std::vector<unsigned char> forward_ok;
-  std::vector<unsigned char> back_ok;
-  const cv::Size window(options.tracking_window_px, options.tracking_window_px);
-  const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01);
-  cv::calcOpticalFlowPyrLK(warped, current, predicted, tracked, forward_ok, cv::noArray(), window,
-                           levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW);
-  cv::calcOpticalFlowPyrLK(current, warped, tracked, back, back_ok, cv::noArray(), window, levels,
-                           criteria);
-  const double max_miss_squared = options.max_forward_backward_px * options.max_forward_backward_px;
-  for (std::size_t i = 0; i < corners.size(); ++i) {
-    const cv::Point2f miss = back[i] - predicted[i];
-    const cv::Point2f& p = tracked[i];
-    alive[i] = forward_ok[i] && back_ok[i] && miss.dot(miss) <= max_miss_squared && p.x >= 0.0f &&
-               p.y >= 0.0f && p.x <= static_cast<float>(oldest.cols - 1) &&
-               p.y <= static_cast<float>(oldest.rows - 1);
-    points[i] = p;
-  }
+  cv::calcOpticalFlowPyrLK(warped, current, predicted, tracked, forward_ok, cv::noArray(),
+                           tracking_window(options), levels, tracking_criteria(),
+                           cv::OPTFLOW_USE_INITIAL_FLOW);
+  check_back(warped, current, oldest.size(), options, levels, predicted, tracked, forward_ok,
+             alive);
+  points = tracked;
 }
 
 // How well a homography (pixels) maps the oldest image onto the current one over the road region:
