@@ -15,6 +15,7 @@
 #include "x2car/camera/bag_frames.hpp"
 #include "x2car/camera/camera_calibration.hpp"
 #include "x2car/camera/camera_frames.hpp"
+#include "x2car/camera/car_region.hpp"
 #include "x2car/camera/video_frames.hpp"
 #include "x2car/camera_net/learned_estimator.hpp"
 #include "x2car/camera_net/vp_hl_network.hpp"
@@ -43,12 +44,15 @@ struct CalibrateCameraArguments {
   std::optional<int> window_frames;
   std::optional<double> max_window_std_deg;
   bool skip_bad_images = false;
+  std::string mask;  // a file, "none", or empty: look for the car's own body
   BagArguments bag;
   OutputArguments output;
 };
 
 // The name --estimator takes for the paper's network (camera_net), beside the camera module's.
 constexpr const char* kLearnedEstimator = "learned";
+// --mask's word for "leave nothing out, and do not look for the car's body".
+constexpr const char* kNoMask = "none";
 // The network shipped in the repository (models/README.md), where this build's sources are.
 constexpr const char* kDefaultCameraNetwork = X2CAR_MODELS_DIR "/camera_net_kitti.pt";
 
@@ -166,7 +170,15 @@ int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
           : find_camera_intrinsics(
                 arguments.input_path,
                 {arguments.intrinsics_path, arguments.camera_index, arguments.unrectified});
+  if (arguments.mask == kNoMask) {
+    options.detect_car_region = false;
+  } else if (!arguments.mask.empty()) {
+    options.ignored_region = camera::ignored_region_from_file(arguments.mask, intrinsics);
+  }
   if (arguments.estimator == kLearnedEstimator) {
+    if (!arguments.mask.empty() && arguments.mask != kNoMask) {
+      throw std::invalid_argument("--mask is for the geometric, motion and auto estimators");
+    }
     use_learned_estimator(arguments.model_path, intrinsics, options);
   } else if (!arguments.model_path.empty()) {
     throw std::invalid_argument("--model is for --estimator learned");
@@ -263,6 +275,13 @@ RunCommand setup_calibrate_camera_command(CLI::App& command) {
   command.add_flag("--skip-bad-images", arguments->skip_bad_images,
                    "Skip images that cannot be decoded instead of stopping; they are counted in "
                    "the result");
+  command
+      .add_option("--mask", arguments->mask,
+                  "Pixels to leave out: an image of the camera's size whose black pixels are left "
+                  "out (the car's own bonnet, a logo in the video), or none. Default: the car's "
+                  "own body is looked for (what stays the same at the image's bottom while the "
+                  "scene moves) and left out, as the result says")
+      ->type_name("FILE|none");
   add_bag_options(command, arguments->bag,
                   "A bag's Image or CompressedImage topic (default: its only one)", true);
   add_output_options(command, arguments->output);

@@ -689,6 +689,19 @@ TEST(CalibrateCamera, RecoversTheMountingFromAFolderOfImages) {
       HasSubstr("<parent link=\"camera\"/>\n  <child link=\"camera_optical_frame\"/>\n  "
                 "<origin xyz=\"0 0 0\" rpy=\"-1.5707963267948966 0 -1.5707963267948966\"/>"));
 
+  // A mask whose black rows (the bottom 40) are left out: the same mounting, the share said.
+  cv::Mat mask(375, 1242, CV_8U, cv::Scalar(255));
+  mask.rowRange(335, 375).setTo(0);
+  cv::imwrite((folder / "mask.png").string(), mask);
+  const auto masked_json = folder / "masked.json";
+  const CliRun masked =
+      run_x2car("calibrate camera --input " + folder.string() + " --window-frames 12 --mask " +
+                (folder / "mask.png").string() + " --without-series --out " + masked_json.string());
+  ASSERT_EQ(masked.exit_code, 0) << masked.output;
+  const std::string masked_result = io::read_text_file(masked_json);
+  EXPECT_NEAR(number_after(masked_result, "", "\"ignored_region_share\""), 40.0 / 375.0, 1e-9);
+  EXPECT_NEAR(number_after(masked_result, "", "\"pitch_deg\""), 0.05 * kDegPerRad, 0.1);
+
   // The paper's 100-frame window needs more than 24 frames: exit 1 with the reason.
   const CliRun few = run_x2car("calibrate camera --input " + folder.string());
   EXPECT_EQ(few.exit_code, 1) << few.output;
@@ -772,6 +785,17 @@ TEST(CalibrateCamera, BadInputExitsWithTwoNamingTheFile) {
   EXPECT_EQ(size.exit_code, 2) << size.output;
   EXPECT_THAT(size.output, HasSubstr("0000000000.png"));
   EXPECT_THAT(size.output, HasSubstr("image size"));
+  // A mask of another size, or none at all.
+  cv::imwrite((folder / "small_mask.png").string(), cv::Mat(100, 200, CV_8U, cv::Scalar(255)));
+  const CliRun small_mask = run_x2car("calibrate camera --input " + folder.string() + " --mask " +
+                                      (folder / "small_mask.png").string());
+  EXPECT_EQ(small_mask.exit_code, 2) << small_mask.output;
+  EXPECT_THAT(small_mask.output, HasSubstr("small_mask.png"));
+  EXPECT_THAT(small_mask.output, HasSubstr("the mask is 200x100 pixels"));
+  const CliRun no_mask = run_x2car("calibrate camera --input " + folder.string() + " --mask " +
+                                   (folder / "absent.png").string());
+  EXPECT_EQ(no_mask.exit_code, 2) << no_mask.output;
+  EXPECT_THAT(no_mask.output, HasSubstr("absent.png"));
   // A broken image.
   io::write_text_file(folder / "camera" / "images" / "0000000001.png", "not a png");
   const CliRun broken = run_x2car("calibrate camera --input " + folder.string());

@@ -15,6 +15,7 @@
 #include <opencv2/core.hpp>
 #include <thread>
 
+#include "x2car/camera/grey_image.hpp"
 #include "x2car/camera/vanishing_rotation.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/core/options_check.hpp"
@@ -34,6 +35,9 @@ void CameraCalibrationOptions::Check() const {
   check.positive("max_window_disagreement", max_window_disagreement);
   check.at_least("gravity_horizon_roll_floor", gravity_horizon_roll_floor, 0.0);
   check.at_least("unknown_motion_pitch_floor", unknown_motion_pitch_floor, 0.0);
+  check.that(ignored_region.empty() || ignored_region.type() == CV_8UC1, "ignored_region",
+             "must be an 8-bit single-channel image");
+  if (detect_car_region) car_region.Check();
 }
 
 namespace {
@@ -97,13 +101,20 @@ struct Estimators {
   std::optional<SequenceGuide> sequence_guide;
 };
 
-Estimators make_estimators(const CameraCalibrationOptions& options) {
+// The estimators, leaving out `ignored_region` (when not empty).
+Estimators make_estimators(const CameraCalibrationOptions& options, const cv::Mat& ignored_region) {
   if (options.estimator) return {options.estimator, {}, std::nullopt};
   Estimators estimators;
-  if (options.method != CameraMethod::kMotion)
-    estimators.single = make_geometric_estimator(options.geometric);
-  if (options.method != CameraMethod::kGeometric)
-    estimators.sequence = make_road_plane_motion_estimator(options.motion);
+  if (options.method != CameraMethod::kMotion) {
+    GeometricEstimatorOptions geometric = options.geometric;
+    if (!ignored_region.empty()) geometric.ignored_region = ignored_region;
+    estimators.single = make_geometric_estimator(geometric);
+  }
+  if (options.method != CameraMethod::kGeometric) {
+    RoadPlaneMotionOptions motion = options.motion;
+    if (!ignored_region.empty()) motion.ignored_region = ignored_region;
+    estimators.sequence = make_road_plane_motion_estimator(motion);
+  }
   return estimators;
 }
 
@@ -481,10 +492,50 @@ std::optional<std::string> first_read_error(const std::vector<FrameRecord>& reco
   return std::nullopt;
 }
 
+// The pixels the estimators leave out: the given region, else the car's own body found in the
+// images (CameraCalibrationOptions::detect_car_region), else none.
+struct IgnoredRegion {
+  cv::Mat region;         // empty: none
+  bool detected = false;  // found in the images, not given
+};
+
+IgnoredRegion find_ignored_region(const CameraFrameSource& frames,
+                                  const core::CameraIntrinsics& intrinsics,
+                                  const CameraCalibrationOptions& options) {
+  if (!options.ignored_region.empty()) {
+    if (options.ignored_region.cols != intrinsics.width ||
+        options.ignored_region.rows != intrinsics.height) {
+      reject_argument(
+          "calibrate_camera: the ignored region is {}x{} pixels; the intrinsics say {}x{}",
+          options.ignored_region.cols, options.ignored_region.rows, intrinsics.width,
+          intrinsics.height);
+    }
+    return {options.ignored_region, false};
+  }
+  if (options.estimator || !options.detect_car_region) return {};
+  std::vector<std::size_t> ungated;
+  for (std::size_t i = 0; i < frames.times.size(); ++i) {
+    if (!motion_gate(motion_at(frames, i), options.filter)) ungated.push_back(i);
+  }
+  std::vector<cv::Mat> greys;
+  for (const std::size_t index : car_region_samples(ungated, options.car_region.sample_frames)) {
+    try {
+      greys.push_back(grey_8bit(read_frame(frames, intrinsics, index)));
+    } catch (const InputError&) {
+      // The run meets this frame again and reports it (or counts it, skip_bad_images).
+    }
+  }
+  if (greys.size() < 2) return {};
+  cv::Mat region = car_region_from_frames(greys, options.car_region);
+  const bool found = !region.empty();
+  return {std::move(region), found};
+}
+
 CalibrationResult calibrate(const CameraFrameSource& frames,
                             const core::CameraIntrinsics& intrinsics,
                             const CameraCalibrationOptions& options) {
-  Estimators estimators = make_estimators(options);
+  const IgnoredRegion ignored = find_ignored_region(frames, intrinsics, options);
+  Estimators estimators = make_estimators(options, ignored.region);
   // The frames in flight and the ones before them that their pairs need (none without pairs).
   const std::size_t in_flight = frames_in_flight();
   FrameReader reader(frames, intrinsics,
@@ -530,6 +581,10 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
       result.diagnostics["motion_guide_pitch_deg"] = deg_from_rad(look->typical->pitch);
       result.diagnostics["motion_guide_yaw_deg"] = deg_from_rad(look->typical->yaw);
     }
+  }
+  if (!ignored.region.empty()) {
+    result.diagnostics[ignored.detected ? "car_region_share" : "ignored_region_share"] =
+        mask_share(ignored.region);
   }
   if (options.keep_series) write_series(frames, records, filter, result);
   const std::optional<std::string> read_error = first_read_error(records);
@@ -607,6 +662,11 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
                     "{:.3f}, yaw {:.3f} deg (at most {:.3f} deg)",
                     estimate.windows, deg_from_rad(spread.roll), deg_from_rad(spread.pitch),
                     deg_from_rad(spread.yaw), deg_from_rad(options.max_window_disagreement)));
+  }
+  if (ignored.detected) {
+    append_reason(result, fmt::format("the car's own body in view ({:.1f} % of the image, the "
+                                      "same in every frame looked at) was left out",
+                                      100.0 * mask_share(ignored.region)));
   }
   if (read_error) {
     append_reason(result, fmt::format("unreadable images skipped, the first: {}", *read_error));

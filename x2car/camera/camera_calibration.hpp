@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "x2car/camera/car_region.hpp"
 #include "x2car/camera/frame_estimate.hpp"
 #include "x2car/camera/geometric_estimator.hpp"
 #include "x2car/camera/road_plane_motion.hpp"
@@ -24,10 +25,6 @@
 #include "x2car/core/calibration_result.hpp"
 #include "x2car/core/camera_model.hpp"
 #include "x2car/core/enum_names.hpp"
-
-namespace cv {
-class Mat;
-}  // namespace cv
 
 namespace x2car::camera {
 
@@ -64,6 +61,15 @@ struct CameraCalibrationOptions {
   bool estimator_scatters = false;
   GeometricEstimatorOptions geometric;
   RoadPlaneMotionOptions motion;
+  // Pixels the geometric and motion estimators leave out (8-bit, the intrinsics' size; nonzero:
+  // left out): the car's own body in view, a logo burnt into the video. Given, it replaces
+  // detect_car_region; it overrides geometric's and motion's own. Empty: none given.
+  cv::Mat ignored_region;
+  // Without ignored_region: first look for the car's own body in the images (car_region.hpp: what
+  // stays the same while the scene moves, touching the image's bottom) and leave it out. Not for
+  // a caller's `estimator`, which sees whole images.
+  bool detect_car_region = true;
+  CarRegionOptions car_region;
   // motion: before the run, every this many frames a first look at the road plane without a guide;
   // when at least motion_guide_min_frames of them give one, the median of their angles guides
   // every frame's search for the road (RoadPlaneMotionOptions::max_seed_travel_over_height) in

@@ -224,12 +224,19 @@ TEST(CalibrateCamera, MotionDecodesEachFrameOnce) {
   CameraCalibrationOptions options = short_windows();
   options.method = CameraMethod::kMotion;
   options.motion_guide_frame_step = 4;
+  options.detect_car_region = false;  // its own reads are counted below
   calibrate_camera(frames, core::camera_preset("kitti"), options);
   // Without the cache: the first look's 2 x 10, then 40 + 39 = 99; with it 20 + 40 = 60, and a few
   // more when two threads miss the same frame at once. Evicting the lowest index instead of the
   // oldest: 72.
   EXPECT_GE(reads.load(), 40);
   EXPECT_LE(reads.load(), 64);
+  // Looking for the car's body first decodes its samples once more.
+  reads = 0;
+  options.detect_car_region = true;
+  calibrate_camera(frames, core::camera_preset("kitti"), options);
+  EXPECT_GE(reads.load(), 40 + options.car_region.sample_frames);
+  EXPECT_LE(reads.load(), 64 + options.car_region.sample_frames);
 }
 
 TEST(CalibrateCamera, RejectsABadSourceOrOptions) {
@@ -348,6 +355,54 @@ TEST(CalibrateCamera, MotionAloneGuidesItselfByAFirstLookAndCalibrates) {
   options.motion_guide_frame_step = 0;
   EXPECT_EQ(calibrate_camera(frames, intrinsics, options).diagnostics.count("motion_guide_yaw_deg"),
             0U);
+}
+
+// A bonnet over the bottom 15 % of the image stays put while the road moves: its corners outvote
+// the road's, the pairs fit the identity and end too_little_motion. The calibrator finds the
+// bonnet first (car_region.hpp) and leaves it out; a given region does the same.
+TEST(CalibrateCamera, MotionLeavesOutTheCarsOwnBonnet) {
+  const core::CameraIntrinsics intrinsics = core::camera_preset("kitti");
+  const EulerAngles mounting{rad_from_deg(0.8), rad_from_deg(1.5), rad_from_deg(3.5)};
+  const cv::Mat bonnet = testing::bonnet_shape(cv::Size(intrinsics.width, intrinsics.height), 0.15);
+  std::vector<cv::Mat> pictures;
+  for (int i = 0; i < 30; ++i) {
+    pictures.push_back(testing::road_picture(mounting, intrinsics, 1.0 * i));
+    testing::paint_bonnet(pictures.back(), bonnet);
+  }
+  CameraFrameSource frames;
+  for (int i = 0; i < 30; ++i) frames.times.push_back(0.1 * i);
+  frames.read = [&pictures](std::size_t index) { return pictures[index]; };
+  CameraCalibrationOptions options = short_windows();
+  options.method = CameraMethod::kMotion;
+  options.motion_guide_frame_step = 5;
+  options.motion_guide_min_frames = 4;
+
+  options.detect_car_region = false;
+  const CalibrationResult blind = calibrate_camera(frames, intrinsics, options);
+  EXPECT_FALSE(blind.ok());
+  EXPECT_GE(blind.rejections.at("too_little_motion"), 20);
+
+  options.detect_car_region = true;
+  const CalibrationResult found = calibrate_camera(frames, intrinsics, options);
+  ASSERT_TRUE(found.ok()) << found.reason;
+  // The bonnet and the margin around it (14 px along a rim of ~1300 px: 0.04 of the image).
+  EXPECT_GT(found.diagnostics.at("car_region_share"), mask_share(bonnet));
+  EXPECT_LT(found.diagnostics.at("car_region_share"), mask_share(bonnet) + 0.06);
+  EXPECT_THAT(found.reason, ::testing::HasSubstr("the car's own body in view"));
+  EXPECT_THAT(*found.roll, AngleNearDeg(mounting.roll, 0.1));
+  EXPECT_THAT(*found.pitch, AngleNearDeg(mounting.pitch, 0.1));
+  EXPECT_THAT(*found.yaw, AngleNearDeg(mounting.yaw, 0.1));
+
+  options.detect_car_region = false;
+  options.ignored_region = bonnet;
+  const CalibrationResult given = calibrate_camera(frames, intrinsics, options);
+  ASSERT_TRUE(given.ok()) << given.reason;
+  EXPECT_EQ(given.diagnostics.count("car_region_share"), 0U);
+  EXPECT_NEAR(given.diagnostics.at("ignored_region_share"), mask_share(bonnet), 1e-12);
+  EXPECT_THAT(*given.pitch, AngleNearDeg(mounting.pitch, 0.1));
+
+  options.ignored_region = cv::Mat(10, 10, CV_8U, cv::Scalar(0));
+  EXPECT_THROW(calibrate_camera(frames, intrinsics, options), std::invalid_argument);
 }
 
 }  // namespace

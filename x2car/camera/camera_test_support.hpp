@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
+#include <random>
 #include <vector>
 
 #include "x2car/camera/vanishing_rotation.hpp"
@@ -276,6 +277,36 @@ inline cv::Mat road_picture(const EulerAngles& mounting, const core::CameraIntri
     }
   }
   return picture;
+}
+
+// The car's own bonnet over the bottom of an image of `size`: 255 where it is, a rounded rise
+// from the bottom edge, `share` of the height at the centre.
+inline cv::Mat bonnet_shape(const cv::Size& size, double share) {
+  cv::Mat shape = cv::Mat::zeros(size, CV_8U);
+  for (int row = 0; row < size.height; ++row) {
+    for (int column = 0; column < size.width; ++column) {
+      const double x = (column - 0.5 * size.width) / (0.75 * size.width);
+      const double top = size.height * (1.0 - share * std::max(0.0, 1.0 - x * x));
+      if (row >= top) shape.at<unsigned char>(row, column) = 255;
+    }
+  }
+  return shape;
+}
+
+// Paints the same bonnet (bonnet_shape) on an 8-bit grey image: dark paint, a bright highlight
+// across it 30 rows above the bottom, and a fixed grain.
+inline void paint_bonnet(cv::Mat& image, const cv::Mat& shape) {
+  cv::Mat paint(image.size(), CV_8U);
+  std::mt19937 grain(7);
+  std::normal_distribution<double> noise(0.0, 4.0);
+  for (int row = 0; row < paint.rows; ++row) {
+    for (int column = 0; column < paint.cols; ++column) {
+      const double band = 120.0 * std::exp(-std::pow((row - (paint.rows - 30)) / 4.0, 2.0));
+      paint.at<unsigned char>(row, column) =
+          cv::saturate_cast<unsigned char>(60.0 + band + 0.1 * (row - paint.rows) + noise(grain));
+    }
+  }
+  paint.copyTo(image, shape);
 }
 
 }  // namespace x2car::camera::testing

@@ -1,6 +1,7 @@
 #include "x2car/camera/geometric_estimator.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
@@ -16,6 +17,8 @@ namespace x2car::camera {
 
 void GeometricEstimatorOptions::Check() const {
   const OptionsCheck check("GeometricEstimatorOptions");
+  check.that(ignored_region.empty() || ignored_region.type() == CV_8UC1, "ignored_region",
+             "must be an 8-bit single-channel image");
   check.in_range("lsd_scale", lsd_scale, 0.0, 1.0, Bounds::kOpenMin);
   check.non_negative("min_segment_length_px", min_segment_length_px);
   check.at_least("min_segments", min_segments, 2);
@@ -48,7 +51,16 @@ struct DirectionFit {
   double support_px = 0.0;    // summed length of the inliers
 };
 
-// Step 1-2: LSD, undistorted endpoints, the length filter, each segment's plane.
+// Whether pixel `point` lies in `region` (8-bit; empty: nowhere).
+bool in_region(const cv::Mat& region, const Eigen::Vector2d& point) {
+  if (region.empty()) return false;
+  const int column = std::clamp(static_cast<int>(std::lround(point.x())), 0, region.cols - 1);
+  const int row = std::clamp(static_cast<int>(std::lround(point.y())), 0, region.rows - 1);
+  return region.at<unsigned char>(row, column) != 0;
+}
+
+// Step 1-2: LSD (ignored_region's segments dropped), undistorted endpoints, the length filter, each
+// segment's plane.
 std::vector<Segment> detect_segments(const cv::Mat& grey, const core::CameraIntrinsics& intrinsics,
                                      const GeometricEstimatorOptions& options) {
   const cv::Ptr<cv::LineSegmentDetector> detector =
@@ -62,6 +74,10 @@ std::vector<Segment> detect_segments(const cv::Mat& grey, const core::CameraIntr
   for (const cv::Vec4f& line : lines) {
     Eigen::Vector2d start(line[0], line[1]);
     Eigen::Vector2d end(line[2], line[3]);
+    if (in_region(options.ignored_region, start) || in_region(options.ignored_region, end) ||
+        in_region(options.ignored_region, 0.5 * (start + end))) {
+      continue;
+    }
     if (distorted) {
       start = core::undistort_pixel(intrinsics, start);
       end = core::undistort_pixel(intrinsics, end);

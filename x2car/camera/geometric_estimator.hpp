@@ -29,6 +29,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <opencv2/core.hpp>
 #include <vector>
 
 #include "x2car/camera/frame_estimate.hpp"
@@ -67,6 +68,9 @@ struct GeometricEstimatorOptions {
   // Of the RANSAC sampling; every frame uses the same seed, so a frame's result does not depend on
   // which thread or in which order it ran.
   std::uint64_t seed = 1;
+  // Pixels to leave out (8-bit, the images' size; nonzero: the car's own body, car_region.hpp): a
+  // segment with an end or its middle there is dropped. Empty: none.
+  cv::Mat ignored_region;
 
   // Throws std::invalid_argument naming the offending field.
   void Check() const;

@@ -35,6 +35,8 @@ void RoadPlaneMotionOptions::Check() const {
   check.non_negative("min_translation_over_height", min_translation_over_height);
   check.in_range("max_rotation", max_rotation, 0.0, kPi / 4.0, Bounds::kOpenMin);
   check.in_range("max_normal_tilt", max_normal_tilt, 0.0, kPi / 2.0, Bounds::kOpen);
+  check.that(ignored_region.empty() || ignored_region.type() == CV_8UC1, "ignored_region",
+             "must be an 8-bit single-channel image");
 }
 
 namespace {
@@ -602,7 +604,11 @@ FrameEstimate fit_road_plane(const std::vector<cv::Mat>& greys,
                              const std::optional<SequenceGuide>& guide, RoadTracks& used) {
   const cv::Mat& oldest = greys.front();
   const cv::Mat& current = greys.back();
-  const cv::Mat mask = road_region_mask(oldest.size(), intrinsics, options);
+  if (!options.ignored_region.empty() && options.ignored_region.size() != oldest.size()) {
+    return rejected_frame(FrameRejection::kWrongImageSize);
+  }
+  cv::Mat mask = road_region_mask(oldest.size(), intrinsics, options);
+  if (!options.ignored_region.empty()) mask.setTo(0, options.ignored_region);
   // The corners down to the weaker of the two qualities, strongest first: those of the tracked
   // seed (feature_quality) are a prefix of them (goodFeaturesToTrack's order and suppression).
   std::vector<cv::Point2f> corners;

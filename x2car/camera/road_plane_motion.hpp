@@ -114,6 +114,10 @@ struct RoadPlaneMotionOptions {
   // +-10 deg and a road's grade stay inside; a wall or a car that fills the view does not.
   double max_normal_tilt = rad_from_deg(25.0);
 
+  // Pixels to leave out of the road region (8-bit, the images' size; nonzero: the car's own body,
+  // car_region.hpp). Empty: none.
+  cv::Mat ignored_region;
+
   // Throws std::invalid_argument naming the offending field.
   void Check() const;
 };
