@@ -1,9 +1,10 @@
 #include "x2car/camera/car_region.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -92,9 +93,9 @@ cv::Mat car_region_from_frames(const std::vector<cv::Mat>& greys, const CarRegio
   // straight road stays put and runs from the bottom edge to the horizon and the sky.
   const int radius =
       std::max(1, static_cast<int>(std::lround(options.min_thickness_share * size.width / 2.0)));
-  cv::morphologyEx(is_static, is_static, cv::MORPH_OPEN,
-                   cv::getStructuringElement(cv::MORPH_ELLIPSE,
-                                             cv::Size(2 * radius + 1, 2 * radius + 1)));
+  cv::morphologyEx(
+      is_static, is_static, cv::MORPH_OPEN,
+      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1)));
   // Texture: the 3 x 3 range of the samples' mean.
   cv::Mat mean;
   sum.convertTo(mean, CV_8U, 1.0 / static_cast<double>(greys.size()));
@@ -140,8 +141,7 @@ cv::Mat car_region_from_frames(const std::vector<cv::Mat>& greys, const CarRegio
   }
   if (options.margin_px > 0) {
     const int side = 2 * options.margin_px + 1;
-    cv::dilate(region, region,
-               cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(side, side)));
+    cv::dilate(region, region, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(side, side)));
   }
   if (mask_share(region) > options.max_share) return {};
   return region;

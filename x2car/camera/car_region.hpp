@@ -10,13 +10,15 @@
 //
 // How: over `sample_frames` frames spread evenly over the drive, each grey image smoothed over
 // 5 x 5 pixels (sensor noise), a pixel whose values span at most `max_static_range` grey levels is
-// static; static parts thinner than `min_thickness_share` of the width are dropped. So is a patch of plain sky or asphalt, but those carry no corners or segments to lose;
-// what marks the car is a static pixel with texture (its 3 x 3 neighbourhood in the mean image
-// spans at least `min_texture_range` levels). The car's region is every static region that touches
-// the image's bottom edge and holds at least `min_textured_share` of the image's pixels of such
-// texture, grown by `margin_px` (a tracking window or a segment that straddles the car's edge
-// slides along it). Static regions that do not touch the bottom (sky) are left alone, and when
-// most of the image's lower half did not change either (the car stood), nothing is found.
+// static. When most of the image's lower half is static the car stood or crept between the samples
+// and nothing is found. Static parts thinner than `min_thickness_share` of the width are dropped (a
+// solid lane line on a straight road stays put too). Plain sky or asphalt is static as well, but
+// carries no corners or segments to lose; what marks the car is a static pixel with texture (its
+// 3 x 3 neighbourhood in the mean image spans at least `min_texture_range` levels). The car's
+// region is every static region that touches the image's bottom edge and holds at least
+// `min_textured_share` of the image's pixels of such texture, grown by `margin_px` (a tracking
+// window or a segment that straddles the car's edge slides along it). Static regions that do not
+// touch the bottom (sky) are left alone.
 #pragma once
 
 #include <cstddef>
