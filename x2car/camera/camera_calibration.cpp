@@ -101,18 +101,26 @@ struct Estimators {
   std::optional<SequenceGuide> sequence_guide;
 };
 
-// The estimators, leaving out `ignored_region` (when not empty).
-Estimators make_estimators(const CameraCalibrationOptions& options, const cv::Mat& ignored_region) {
+// The pixels the estimators leave out: the given region (both estimators), else the car's own
+// body found in the images (CameraCalibrationOptions::detect_car_region; the motion estimator's
+// only), else none.
+struct IgnoredRegion {
+  cv::Mat region;         // empty: none
+  bool detected = false;  // found in the images, not given
+};
+
+// The estimators, leaving out `ignored`.
+Estimators make_estimators(const CameraCalibrationOptions& options, const IgnoredRegion& ignored) {
   if (options.estimator) return {options.estimator, {}, std::nullopt};
   Estimators estimators;
   if (options.method != CameraMethod::kMotion) {
     GeometricEstimatorOptions geometric = options.geometric;
-    if (!ignored_region.empty()) geometric.ignored_region = ignored_region;
+    if (!ignored.region.empty() && !ignored.detected) geometric.ignored_region = ignored.region;
     estimators.single = make_geometric_estimator(geometric);
   }
   if (options.method != CameraMethod::kGeometric) {
     RoadPlaneMotionOptions motion = options.motion;
-    if (!ignored_region.empty()) motion.ignored_region = ignored_region;
+    if (!ignored.region.empty()) motion.ignored_region = ignored.region;
     estimators.sequence = make_road_plane_motion_estimator(motion);
   }
   return estimators;
@@ -492,13 +500,6 @@ std::optional<std::string> first_read_error(const std::vector<FrameRecord>& reco
   return std::nullopt;
 }
 
-// The pixels the estimators leave out: the given region, else the car's own body found in the
-// images (CameraCalibrationOptions::detect_car_region), else none.
-struct IgnoredRegion {
-  cv::Mat region;         // empty: none
-  bool detected = false;  // found in the images, not given
-};
-
 IgnoredRegion find_ignored_region(const CameraFrameSource& frames,
                                   const core::CameraIntrinsics& intrinsics,
                                   const CameraCalibrationOptions& options) {
@@ -512,7 +513,12 @@ IgnoredRegion find_ignored_region(const CameraFrameSource& frames,
     }
     return {options.ignored_region, false};
   }
-  if (options.estimator || !options.detect_car_region) return {};
+  // Only the motion estimator is given what is found: a solid lane line on a straight road can be
+  // as still as the car, and the geometric estimator needs its segments.
+  if (options.estimator || !options.detect_car_region ||
+      options.method == CameraMethod::kGeometric) {
+    return {};
+  }
   std::vector<std::size_t> ungated;
   for (std::size_t i = 0; i < frames.times.size(); ++i) {
     if (!motion_gate(motion_at(frames, i), options.filter)) ungated.push_back(i);
@@ -535,7 +541,7 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
                             const core::CameraIntrinsics& intrinsics,
                             const CameraCalibrationOptions& options) {
   const IgnoredRegion ignored = find_ignored_region(frames, intrinsics, options);
-  Estimators estimators = make_estimators(options, ignored.region);
+  Estimators estimators = make_estimators(options, ignored);
   // The frames in flight and the ones before them that their pairs need (none without pairs).
   const std::size_t in_flight = frames_in_flight();
   FrameReader reader(frames, intrinsics,
@@ -664,8 +670,8 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
                     deg_from_rad(spread.yaw), deg_from_rad(options.max_window_disagreement)));
   }
   if (ignored.detected) {
-    append_reason(result, fmt::format("the car's own body in view ({:.1f} % of the image, the "
-                                      "same in every frame looked at) was left out",
+    append_reason(result, fmt::format("what stayed in view while the scene moved (the car's own "
+                                      "body: {:.1f} % of the image) was left out of the road plane",
                                       100.0 * mask_share(ignored.region)));
   }
   if (read_error) {

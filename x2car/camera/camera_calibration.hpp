@@ -65,9 +65,10 @@ struct CameraCalibrationOptions {
   // left out): the car's own body in view, a logo burnt into the video. Given, it replaces
   // detect_car_region; it overrides geometric's and motion's own. Empty: none given.
   cv::Mat ignored_region;
-  // Without ignored_region: first look for the car's own body in the images (car_region.hpp: what
-  // stays the same while the scene moves, touching the image's bottom) and leave it out. Not for
-  // a caller's `estimator`, which sees whole images.
+  // Without ignored_region, for motion and auto: first look for the car's own body in the images
+  // (car_region.hpp: texture that stays in place while the scene moves) and leave it out of the
+  // road plane. Not the geometric estimator's (a solid lane line on a straight road can be as
+  // still, and its segments are wanted) nor a caller's `estimator`, which sees whole images.
   bool detect_car_region = true;
   CarRegionOptions car_region;
   // motion: before the run, every this many frames a first look at the road plane without a guide;

@@ -294,16 +294,17 @@ inline cv::Mat bonnet_shape(const cv::Size& size, double share) {
 }
 
 // Paints the same bonnet (bonnet_shape) on an 8-bit grey image: dark paint, a bright highlight
-// across it 30 rows above the bottom, and a fixed grain.
-inline void paint_bonnet(cv::Mat& image, const cv::Mat& shape) {
+// across it 30 rows above the bottom, and a fixed grain; `light` scales its brightness (the sun on
+// it as the car turns).
+inline void paint_bonnet(cv::Mat& image, const cv::Mat& shape, double light = 1.0) {
   cv::Mat paint(image.size(), CV_8U);
   std::mt19937 grain(7);
   std::normal_distribution<double> noise(0.0, 4.0);
   for (int row = 0; row < paint.rows; ++row) {
     for (int column = 0; column < paint.cols; ++column) {
       const double band = 120.0 * std::exp(-std::pow((row - (paint.rows - 30)) / 4.0, 2.0));
-      paint.at<unsigned char>(row, column) =
-          cv::saturate_cast<unsigned char>(60.0 + band + 0.1 * (row - paint.rows) + noise(grain));
+      paint.at<unsigned char>(row, column) = cv::saturate_cast<unsigned char>(
+          light * (60.0 + band + 0.1 * (row - paint.rows) + noise(grain)));
     }
   }
   paint.copyTo(image, shape);

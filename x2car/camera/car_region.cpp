@@ -16,13 +16,12 @@ namespace x2car::camera {
 void CarRegionOptions::Check() const {
   const OptionsCheck check("CarRegionOptions");
   check.at_least("sample_frames", sample_frames, 2);
-  check.non_negative("max_static_range", max_static_range);
-  check.non_negative("min_texture_range", min_texture_range);
-  check.in_range("min_textured_share", min_textured_share, 0.0, 1.0);
-  check.in_range("min_thickness_share", min_thickness_share, 0.0, 0.5);
+  check.at_least("window_px", window_px, 3);
+  check.non_negative("min_texture_sd", min_texture_sd);
+  check.in_range("min_correlation", min_correlation, -1.0, 1.0);
+  check.probability("min_moving_share", min_moving_share);
   check.non_negative("margin_px", margin_px);
   check.in_range("max_share", max_share, 0.0, 1.0, Bounds::kOpenMin);
-  check.probability("min_moving_share", min_moving_share);
 }
 
 std::vector<std::size_t> car_region_samples(const std::vector<std::size_t>& usable, int count) {
@@ -56,6 +55,60 @@ double mask_share(const cv::Mat& mask) {
   return static_cast<double>(cv::countNonZero(mask)) / static_cast<double>(mask.total());
 }
 
+namespace {
+
+// A sample's local means and variances over the window, in floats.
+struct LocalStatistics {
+  cv::Mat image;
+  cv::Mat mean;
+  cv::Mat variance;
+};
+
+// The grey image's detail: minus its Gaussian blur (sigma 2 px), so that smooth shading (the sky's
+// gradient, the lens's vignetting) is no texture.
+LocalStatistics local_statistics(const cv::Mat& grey, const cv::Size& window) {
+  LocalStatistics statistics;
+  grey.convertTo(statistics.image, CV_32F);
+  cv::Mat smooth;
+  cv::GaussianBlur(statistics.image, smooth, cv::Size(0, 0), 2.0);
+  statistics.image -= smooth;
+  cv::boxFilter(statistics.image, statistics.mean, CV_32F, window);
+  cv::Mat squares;
+  cv::boxFilter(statistics.image.mul(statistics.image), squares, CV_32F, window);
+  statistics.variance = squares - statistics.mean.mul(statistics.mean);
+  return statistics;
+}
+
+// The parts of `mask` (8-bit) connected to the image's border in its bottom quarter: the bottom
+// row, or the side columns below three quarters of the height. What lies at infinity is still too
+// (the horizon, a far skyline: translation does not move it), but it meets the border near the
+// horizon's rows, not there.
+cv::Mat attached_to_lower_border(const cv::Mat& mask) {
+  cv::Mat labels;
+  const int count = cv::connectedComponents(mask, labels, 8, CV_32S);
+  std::vector<unsigned char> attached(static_cast<std::size_t>(count), 0);
+  const auto mark = [&](int row, int column) {
+    attached[static_cast<std::size_t>(labels.at<std::int32_t>(row, column))] = 1;
+  };
+  for (int column = 0; column < mask.cols; ++column) mark(mask.rows - 1, column);
+  for (int row = 3 * mask.rows / 4; row < mask.rows; ++row) {
+    mark(row, 0);
+    mark(row, mask.cols - 1);
+  }
+  attached[0] = 0;  // the background
+  cv::Mat kept = cv::Mat::zeros(mask.size(), CV_8U);
+  for (int row = 0; row < mask.rows; ++row) {
+    const auto* label = labels.ptr<std::int32_t>(row);
+    auto* out = kept.ptr<unsigned char>(row);
+    for (int column = 0; column < mask.cols; ++column) {
+      if (attached[static_cast<std::size_t>(label[column])]) out[column] = 255;
+    }
+  }
+  return kept;
+}
+
+}  // namespace
+
 cv::Mat car_region_from_frames(const std::vector<cv::Mat>& greys, const CarRegionOptions& options) {
   options.Check();
   if (greys.size() < 2) reject_argument("car_region_from_frames: {} images; need 2", greys.size());
@@ -65,85 +118,45 @@ cv::Mat car_region_from_frames(const std::vector<cv::Mat>& greys, const CarRegio
       reject_argument("car_region_from_frames: the images must be 8-bit grey and of one size");
     }
   }
-  // The smoothed samples' lowest, highest and summed values.
-  cv::Mat smoothed;
-  cv::Mat low;
-  cv::Mat high;
-  cv::Mat sum = cv::Mat::zeros(size, CV_32F);
-  for (const cv::Mat& grey : greys) {
-    cv::blur(grey, smoothed, cv::Size(5, 5));
-    if (low.empty()) {
-      low = smoothed.clone();
-      high = smoothed.clone();
-    } else {
-      cv::min(low, smoothed, low);
-      cv::max(high, smoothed, high);
-    }
-    cv::accumulate(smoothed, sum);
+  const cv::Size window(options.window_px, options.window_px);
+  const double min_variance = options.min_texture_sd * options.min_texture_sd;
+  // Textured in every sample, and correlated with itself from each sample to the next.
+  cv::Mat textured(size, CV_8U, cv::Scalar(255));
+  cv::Mat steady(size, CV_8U, cv::Scalar(255));
+  LocalStatistics previous = local_statistics(greys.front(), window);
+  cv::bitwise_and(textured, previous.variance >= min_variance, textured);
+  cv::Mat products;
+  cv::Mat covariance;
+  cv::Mat correlation;
+  for (std::size_t k = 1; k < greys.size(); ++k) {
+    LocalStatistics current = local_statistics(greys[k], window);
+    cv::bitwise_and(textured, current.variance >= min_variance, textured);
+    cv::boxFilter(previous.image.mul(current.image), products, CV_32F, window);
+    covariance = products - previous.mean.mul(current.mean);
+    cv::Mat spread;
+    cv::sqrt(cv::max(previous.variance.mul(current.variance), 1e-6), spread);
+    cv::divide(covariance, spread, correlation);
+    cv::bitwise_and(steady, correlation >= options.min_correlation, steady);
+    previous = std::move(current);
   }
-  cv::Mat range;
-  cv::subtract(high, low, range);
-  cv::Mat is_static = range <= options.max_static_range;
-  // A scene that did not move between the samples (a car standing, creeping) is static all over:
-  // then nothing tells the car from the road.
-  const cv::Mat lower_half = is_static.rowRange(size.height / 2, size.height);
-  const double moving_share = 1.0 - mask_share(lower_half);
-  if (moving_share < options.min_moving_share) return {};
-  // Thin static structures are not the car, and they bridge what is: a solid lane line on a
-  // straight road stays put and runs from the bottom edge to the horizon and the sky.
-  const int radius =
-      std::max(1, static_cast<int>(std::lround(options.min_thickness_share * size.width / 2.0)));
-  cv::morphologyEx(
-      is_static, is_static, cv::MORPH_OPEN,
-      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1)));
-  // Texture: the 3 x 3 range of the samples' mean.
-  cv::Mat mean;
-  sum.convertTo(mean, CV_8U, 1.0 / static_cast<double>(greys.size()));
-  cv::Mat texture;
-  cv::morphologyEx(mean, texture, cv::MORPH_GRADIENT,
-                   cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
-  const cv::Mat textured_static = is_static & (texture >= options.min_texture_range);
-
-  cv::Mat labels;
-  const int count = cv::connectedComponents(is_static, labels, 8, CV_32S);
-  // Per static region: whether it touches the bottom edge, and its textured static pixels.
-  std::vector<unsigned char> at_bottom(static_cast<std::size_t>(count), 0);
-  std::vector<std::int64_t> textured(static_cast<std::size_t>(count), 0);
-  const auto* bottom = labels.ptr<std::int32_t>(size.height - 1);
-  for (int column = 0; column < size.width; ++column) {
-    at_bottom[static_cast<std::size_t>(bottom[column])] = 1;
-  }
-  for (int row = 0; row < size.height; ++row) {
-    const auto* label = labels.ptr<std::int32_t>(row);
-    const auto* mark = textured_static.ptr<unsigned char>(row);
-    for (int column = 0; column < size.width; ++column) {
-      if (mark[column]) ++textured[static_cast<std::size_t>(label[column])];
-    }
-  }
-  const double min_textured = options.min_textured_share * static_cast<double>(size.area());
-  std::vector<unsigned char> is_car(static_cast<std::size_t>(count), 0);
-  bool any = false;
-  for (std::size_t label = 1; label < is_car.size(); ++label) {  // 0: the pixels that moved
-    if (at_bottom[label] && static_cast<double>(textured[label]) >= min_textured &&
-        textured[label] > 0) {
-      is_car[label] = 1;
-      any = true;
-    }
-  }
-  if (!any) return {};
-  cv::Mat region = cv::Mat::zeros(size, CV_8U);
-  for (int row = 0; row < size.height; ++row) {
-    const auto* label = labels.ptr<std::int32_t>(row);
-    auto* out = region.ptr<unsigned char>(row);
-    for (int column = 0; column < size.width; ++column) {
-      if (is_car[static_cast<std::size_t>(label[column])]) out[column] = 255;
-    }
-  }
+  cv::Mat still;
+  cv::bitwise_and(textured, steady, still);
+  // The scene must have moved: of the lower half's textured pixels, at least min_moving_share
+  // changed. Otherwise the car stood or crept and the road is as still as the car.
+  const cv::Range lower(size.height / 2, size.height);
+  const int textured_below = cv::countNonZero(textured.rowRange(lower));
+  if (textured_below == 0) return {};
+  const double still_share =
+      static_cast<double>(cv::countNonZero(still.rowRange(lower))) / textured_below;
+  if (1.0 - still_share < options.min_moving_share) return {};
+  if (cv::countNonZero(still) == 0) return {};
+  cv::Mat grown = still;
   if (options.margin_px > 0) {
     const int side = 2 * options.margin_px + 1;
-    cv::dilate(region, region, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(side, side)));
+    cv::dilate(still, grown, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(side, side)));
   }
-  if (mask_share(region) > options.max_share) return {};
+  const cv::Mat region = attached_to_lower_border(grown);
+  if (cv::countNonZero(region) == 0 || mask_share(region) > options.max_share) return {};
   return region;
 }
 

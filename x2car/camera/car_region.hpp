@@ -1,6 +1,7 @@
 // The car's own body in the camera's view (its bonnet, a wiper's arm, a bumper at the bottom of a
-// rear camera): pixels that stay the same while the scene moves, found from a handful of frames
-// spread over the drive, so that the estimators take no corners and no segments there.
+// rear camera) and anything burnt into the video: texture that stays in place while the scene
+// moves, found from a handful of frames spread over the drive, so that the motion estimator takes
+// no corners there.
 //
 // Why: a bonnet that fills the bottom of the image is where the road's nearest, fastest-moving
 // corners would be. Its own corners (the paint's highlight, its edge against the road) do not
@@ -8,17 +9,19 @@
 // rendered urban drive with a bonnet over the bottom 15 % of the image, 446 of 600 frame pairs
 // ended too_little_motion and the drive gave no result.
 //
-// How: over `sample_frames` frames spread evenly over the drive, each grey image smoothed over
-// 5 x 5 pixels (sensor noise), a pixel whose values span at most `max_static_range` grey levels is
-// static. When most of the image's lower half is static the car stood or crept between the samples
-// and nothing is found. Static parts thinner than `min_thickness_share` of the width are dropped (a
-// solid lane line on a straight road stays put too). Plain sky or asphalt is static as well, but
-// carries no corners or segments to lose; what marks the car is a static pixel with texture (its
-// 3 x 3 neighbourhood in the mean image spans at least `min_texture_range` levels). The car's
-// region is every static region that touches the image's bottom edge and holds at least
-// `min_textured_share` of the image's pixels of such texture, grown by `margin_px` (a tracking
-// window or a segment that straddles the car's edge slides along it). Static regions that do not
-// touch the bottom (sky) are left alone.
+// How: over `sample_frames` frames spread evenly over the drive, each grey image's detail (minus
+// its blur: smooth shading is no texture), a pixel is still when its window (`window_px` square)
+// has texture in every sample (standard deviation at least
+// `min_texture_sd` grey levels) and correlates with itself from each sample to the next (zero-mean
+// normalised correlation at least `min_correlation`): the same texture in the same place. The
+// correlation does not see brightness, so a bonnet lit differently as the car turns is still.
+// Plain paint or sky has no texture and carries no corners to lose; the road's texture is
+// another in every sample. When fewer than `min_moving_share` of the image's lower half's textured
+// pixels changed, the car stood or crept between the samples and nothing is found. The region is
+// the still pixels grown by `margin_px` (a tracking window that straddles the car's edge slides
+// along it), where they reach the image's border in its bottom quarter: what lies at infinity (the
+// horizon, a far skyline) is as still under the car's travel, but it meets the border at the
+// horizon's rows.
 #pragma once
 
 #include <cstddef>
@@ -33,27 +36,21 @@ namespace x2car::camera {
 struct CarRegionOptions {
   // Frames looked at, spread evenly over the drive (the motion gate's frames skipped).
   int sample_frames = 16;
-  // A pixel (smoothed 5 x 5) whose values span at most this over the samples is static [grey
-  // levels of 255]: twice a camera's noise after the smoothing, a tenth of what the road's texture
-  // and shadows span between places.
-  double max_static_range = 6.0;
-  // Static parts thinner than this share of the image's width are dropped (a morphological
-  // opening): a solid lane line on a straight road stays put too, and it would join the car to
-  // the sky. 2 %: 25 px across at 1242 px, wider than a lane line at the image's bottom.
-  double min_thickness_share = 0.02;
-  // A static pixel has texture when its 3 x 3 neighbourhood in the samples' mean spans at least
-  // this many grey levels.
-  double min_texture_range = 12.0;
-  // A static region is the car's when it touches the bottom edge and holds at least this share of
-  // the image's pixels as textured static pixels.
-  double min_textured_share = 0.001;
+  // The square window of the texture and the correlation [px].
+  int window_px = 9;
+  // A window has texture when its grey levels' standard deviation reaches this [grey levels of
+  // 255]: above what rounding leaves in plain paint, so that the correlation is defined. A
+  // camera's noise (1-3 levels) passes, but noise does not correlate from sample to sample.
+  double min_texture_sd = 2.0;
+  // ... and is the same from one sample to the next when their correlation reaches this, in every
+  // pair: the faint grain of paint under the sensor's noise correlates by 0.7-0.9; two windows of
+  // road from places seconds apart by 0 +- 0.2, and all 15 pairs of 16 samples must pass.
+  double min_correlation = 0.6;
+  // The samples must show the scene moving: at least this share of the textured pixels of the
+  // image's lower half not still (a bonnet's edge and highlight are a few per cent of them).
+  double min_moving_share = 0.5;
   // The region is grown by this [px]: more than half the motion estimator's tracking window.
   int margin_px = 14;
-  // The samples must show the scene moving: at least this share of the image's lower half not
-  // static (a bonnet covers a third of it at most; the road beside it moves). Otherwise the car
-  // stood or crept between the samples, the road looks as still as the car, and nothing is left
-  // out.
-  double min_moving_share = 0.5;
   // A region larger than this share of the image is no car, and nothing is left out.
   double max_share = 0.5;
 
@@ -61,9 +58,9 @@ struct CarRegionOptions {
   void Check() const;
 };
 
-// The car's region in 8-bit grey images of one size (at least two): 255 on the car, 0 elsewhere;
-// empty when no region qualifies. std::invalid_argument for fewer than two images or images of
-// different sizes or types.
+// The still region of 8-bit grey images of one size (at least two): 255 on it, 0 elsewhere; empty
+// when there is none or the scene did not move. std::invalid_argument for fewer than two images or
+// images of different sizes or types.
 cv::Mat car_region_from_frames(const std::vector<cv::Mat>& greys,
                                const CarRegionOptions& options = {});
 
