@@ -278,9 +278,9 @@ RunCommand setup_calibrate_camera_command(CLI::App& command) {
   command
       .add_option("--mask", arguments->mask,
                   "Pixels to leave out: an image of the camera's size whose black pixels are left "
-                  "out (the car's own bonnet, a logo in the video), or none. Default: the car's "
-                  "own body is looked for (what stays the same at the image's bottom while the "
-                  "scene moves) and left out, as the result says")
+                  "out (the car's own bonnet, a logo in the video), or none. Default: motion and "
+                  "auto look for the car's own body (texture that stays in place at the image's "
+                  "bottom while the scene moves) and leave it out, as the result says")
       ->type_name("FILE|none");
   add_bag_options(command, arguments->bag,
                   "A bag's Image or CompressedImage topic (default: its only one)", true);

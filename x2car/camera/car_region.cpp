@@ -125,12 +125,15 @@ cv::Mat car_region_from_frames(const std::vector<cv::Mat>& greys, const CarRegio
   cv::Mat steady(size, CV_8U, cv::Scalar(255));
   LocalStatistics previous = local_statistics(greys.front(), window);
   cv::bitwise_and(textured, previous.variance >= min_variance, textured);
+  cv::Mat ever_textured = textured.clone();
   cv::Mat products;
   cv::Mat covariance;
   cv::Mat correlation;
   for (std::size_t k = 1; k < greys.size(); ++k) {
     LocalStatistics current = local_statistics(greys[k], window);
-    cv::bitwise_and(textured, current.variance >= min_variance, textured);
+    const cv::Mat has_texture = current.variance >= min_variance;
+    cv::bitwise_and(textured, has_texture, textured);
+    cv::bitwise_or(ever_textured, has_texture, ever_textured);
     cv::boxFilter(previous.image.mul(current.image), products, CV_32F, window);
     covariance = products - previous.mean.mul(current.mean);
     cv::Mat spread;
@@ -141,10 +144,12 @@ cv::Mat car_region_from_frames(const std::vector<cv::Mat>& greys, const CarRegio
   }
   cv::Mat still;
   cv::bitwise_and(textured, steady, still);
-  // The scene must have moved: of the lower half's textured pixels, at least min_moving_share
-  // changed. Otherwise the car stood or crept and the road is as still as the car.
+  // The scene must have moved: of the lower half's pixels with texture in any sample, at least
+  // min_moving_share are not still. Otherwise the car stood or crept and the road is as still as
+  // the car. (Not of those textured in every sample: smooth asphalt has texture only where a
+  // shadow's edge or a marking passes, and the car's own would outnumber it.)
   const cv::Range lower(size.height / 2, size.height);
-  const int textured_below = cv::countNonZero(textured.rowRange(lower));
+  const int textured_below = cv::countNonZero(ever_textured.rowRange(lower));
   if (textured_below == 0) return {};
   const double still_share =
       static_cast<double>(cv::countNonZero(still.rowRange(lower))) / textured_below;

@@ -16,12 +16,12 @@
 // normalised correlation at least `min_correlation`): the same texture in the same place. The
 // correlation does not see brightness, so a bonnet lit differently as the car turns is still.
 // Plain paint or sky has no texture and carries no corners to lose; the road's texture is
-// another in every sample. When fewer than `min_moving_share` of the image's lower half's textured
-// pixels changed, the car stood or crept between the samples and nothing is found. The region is
-// the still pixels grown by `margin_px` (a tracking window that straddles the car's edge slides
-// along it), where they reach the image's border in its bottom quarter: what lies at infinity (the
-// horizon, a far skyline) is as still under the car's travel, but it meets the border at the
-// horizon's rows.
+// another in every sample. When fewer than `min_moving_share` of the pixels of the image's lower
+// half that have texture in any sample are not still, the car stood or crept between the samples
+// and nothing is found. The region is the still pixels grown by `margin_px` (a tracking window that
+// straddles the car's edge slides along it), where they reach the image's border in its bottom
+// quarter: what lies at infinity (the horizon, a far skyline) is as still under the car's travel,
+// but it meets the border at the horizon's rows.
 #pragma once
 
 #include <cstddef>
@@ -46,8 +46,8 @@ struct CarRegionOptions {
   // pair: the faint grain of paint under the sensor's noise correlates by 0.7-0.9; two windows of
   // road from places seconds apart by 0 +- 0.2, and all 15 pairs of 16 samples must pass.
   double min_correlation = 0.6;
-  // The samples must show the scene moving: at least this share of the textured pixels of the
-  // image's lower half not still (a bonnet's edge and highlight are a few per cent of them).
+  // The samples must show the scene moving: at least this share of the pixels of the image's lower
+  // half with texture in any sample not still (a bonnet's are a few tenths of them at most).
   double min_moving_share = 0.5;
   // The region is grown by this [px]: more than half the motion estimator's tracking window.
   int margin_px = 14;
