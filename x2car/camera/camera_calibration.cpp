@@ -504,6 +504,11 @@ IgnoredRegion find_ignored_region(const CameraFrameSource& frames,
                                   const core::CameraIntrinsics& intrinsics,
                                   const CameraCalibrationOptions& options) {
   if (!options.ignored_region.empty()) {
+    if (options.estimator) {
+      reject_argument(
+          "calibrate_camera: ignored_region is for the geometric and motion "
+          "estimators; `estimator` sees whole images");
+    }
     if (options.ignored_region.cols != intrinsics.width ||
         options.ignored_region.rows != intrinsics.height) {
       reject_argument(

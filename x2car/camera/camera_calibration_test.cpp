@@ -403,6 +403,9 @@ TEST(CalibrateCamera, MotionLeavesOutTheCarsOwnBonnet) {
   EXPECT_NEAR(given.diagnostics.at("ignored_region_share"), mask_share(bonnet), 1e-12);
   EXPECT_THAT(*given.pitch, AngleNearDeg(mounting.pitch, 0.1));
 
+  options.estimator = [](const cv::Mat&, const core::CameraIntrinsics&) { return FrameEstimate{}; };
+  EXPECT_THROW(calibrate_camera(frames, intrinsics, options), std::invalid_argument);
+  options.estimator = {};
   options.ignored_region = cv::Mat(10, 10, CV_8U, cv::Scalar(0));
   EXPECT_THROW(calibrate_camera(frames, intrinsics, options), std::invalid_argument);
 }
