@@ -5,6 +5,8 @@
 
 #include <atomic>
 #include <cmath>
+#include <functional>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <random>
 #include <stdexcept>
@@ -326,20 +328,35 @@ TEST(CalibrateCamera, AnEstimatorThatScattersIsFilteredOnBlocksOfFrames) {
 // frame without a guide, and the median of what those found guides every frame's search for the
 // road (a camera yawed 3.5 deg). Its windows are tested on blocks of frames (6 of the 12 here),
 // its failed pairs leave holes, and it calibrates to the road plane's accuracy.
-TEST(CalibrateCamera, MotionAloneGuidesItselfByAFirstLookAndCalibrates) {
-  const core::CameraIntrinsics intrinsics = core::camera_preset("kitti");
-  const EulerAngles mounting{rad_from_deg(0.8), rad_from_deg(1.5), rad_from_deg(3.5)};
-  std::vector<cv::Mat> pictures;
-  for (int i = 0; i < 30; ++i) {
-    pictures.push_back(testing::road_picture(mounting, intrinsics, 1.0 * i));
-  }
+// 30 frames down a textured road at 10 Hz, 1 m a frame, seen from `mounting`; `paint` (when
+// given) draws on frame i.
+CameraFrameSource road_drive(const EulerAngles& mounting, const core::CameraIntrinsics& intrinsics,
+                             const std::function<void(cv::Mat&, int)>& paint = {}) {
+  auto pictures = std::make_shared<std::vector<cv::Mat>>();
   CameraFrameSource frames;
-  for (int i = 0; i < 30; ++i) frames.times.push_back(0.1 * i);
-  frames.read = [&pictures](std::size_t index) { return pictures[index]; };
+  for (int i = 0; i < 30; ++i) {
+    pictures->push_back(testing::road_picture(mounting, intrinsics, 1.0 * i));
+    if (paint) paint(pictures->back(), i);
+    frames.times.push_back(0.1 * i);
+  }
+  frames.read = [pictures](std::size_t index) { return (*pictures)[index]; };
+  return frames;
+}
+
+// The motion estimator alone on road_drive's frames: windows of 12, a first look at every 5th.
+CameraCalibrationOptions motion_on_road_drive() {
   CameraCalibrationOptions options = short_windows();
   options.method = CameraMethod::kMotion;
   options.motion_guide_frame_step = 5;
   options.motion_guide_min_frames = 4;
+  return options;
+}
+
+TEST(CalibrateCamera, MotionAloneGuidesItselfByAFirstLookAndCalibrates) {
+  const core::CameraIntrinsics intrinsics = core::camera_preset("kitti");
+  const EulerAngles mounting{rad_from_deg(0.8), rad_from_deg(1.5), rad_from_deg(3.5)};
+  const CameraFrameSource frames = road_drive(mounting, intrinsics);
+  CameraCalibrationOptions options = motion_on_road_drive();
   const CalibrationResult result = calibrate_camera(frames, intrinsics, options);
   ASSERT_TRUE(result.ok()) << result.reason;
   EXPECT_EQ(result.method, "motion");
@@ -365,18 +382,11 @@ TEST(CalibrateCamera, MotionLeavesOutTheCarsOwnBonnet) {
   const core::CameraIntrinsics intrinsics = core::camera_preset("kitti");
   const EulerAngles mounting{rad_from_deg(0.8), rad_from_deg(1.5), rad_from_deg(3.5)};
   const cv::Mat bonnet = testing::bonnet_shape(cv::Size(intrinsics.width, intrinsics.height), 0.15);
-  std::vector<cv::Mat> pictures;
-  for (int i = 0; i < 30; ++i) {
-    pictures.push_back(testing::road_picture(mounting, intrinsics, 1.0 * i));
-    testing::paint_bonnet(pictures.back(), bonnet, 1.0 + 0.2 * std::sin(0.9 * i));
-  }
-  CameraFrameSource frames;
-  for (int i = 0; i < 30; ++i) frames.times.push_back(0.1 * i);
-  frames.read = [&pictures](std::size_t index) { return pictures[index]; };
-  CameraCalibrationOptions options = short_windows();
-  options.method = CameraMethod::kMotion;
-  options.motion_guide_frame_step = 5;
-  options.motion_guide_min_frames = 4;
+  const CameraFrameSource frames =
+      road_drive(mounting, intrinsics, [&bonnet](cv::Mat& picture, int i) {
+        testing::paint_bonnet(picture, bonnet, 1.0 + 0.2 * std::sin(0.9 * i));
+      });
+  CameraCalibrationOptions options = motion_on_road_drive();
 
   options.detect_car_region = false;
   const CalibrationResult blind = calibrate_camera(frames, intrinsics, options);
