@@ -154,7 +154,6 @@ cv::Mat car_region_from_frames(const std::vector<cv::Mat>& greys, const CarRegio
   const double still_share =
       static_cast<double>(cv::countNonZero(still.rowRange(lower))) / textured_below;
   if (1.0 - still_share < options.min_moving_share) return {};
-  if (cv::countNonZero(still) == 0) return {};
   cv::Mat grown = still;
   if (options.margin_px > 0) {
     const int side = 2 * options.margin_px + 1;
