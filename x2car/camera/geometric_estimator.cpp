@@ -51,7 +51,8 @@ struct DirectionFit {
   double support_px = 0.0;    // summed length of the inliers
 };
 
-// Whether pixel `point` lies in `region` (8-bit; empty: nowhere).
+// Whether pixel `point` lies in `region` (8-bit, the image's size; empty: nowhere). A segment's
+// end may lie a fraction of a pixel outside the image: it reads the nearest pixel.
 bool in_region(const cv::Mat& region, const Eigen::Vector2d& point) {
   if (region.empty()) return false;
   const int column = std::clamp(static_cast<int>(std::lround(point.x())), 0, region.cols - 1);
@@ -309,7 +310,8 @@ FrameEstimate estimate_frame_geometric(const cv::Mat& image,
                                        const GeometricEstimatorOptions& options,
                                        std::vector<FrameLine>* lines) {
   if (image.empty()) return rejected_frame(FrameRejection::kUnreadableImage);
-  if (image.cols != intrinsics.width || image.rows != intrinsics.height) {
+  if (image.cols != intrinsics.width || image.rows != intrinsics.height ||
+      (!options.ignored_region.empty() && options.ignored_region.size() != image.size())) {
     return rejected_frame(FrameRejection::kWrongImageSize);
   }
   const cv::Mat grey = grey_8bit(image);

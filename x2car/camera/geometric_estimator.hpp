@@ -91,9 +91,9 @@ struct FrameLine {
 };
 
 // The estimate of one image (grey or BGR, 8 or 16 bit). An image whose size differs from the
-// intrinsics' is rejected (wrong_image_size), an empty one unreadable_image. Pure: safe to call
-// from several threads at once. `lines`, when given, receives every usable segment and its role
-// (as far as the estimate got before a rejection).
+// intrinsics' (or from options.ignored_region's) is rejected (wrong_image_size), an empty one
+// unreadable_image. Pure: safe to call from several threads at once. `lines`, when given,
+// receives every usable segment and its role (as far as the estimate got before a rejection).
 FrameEstimate estimate_frame_geometric(const cv::Mat& image,
                                        const core::CameraIntrinsics& intrinsics,
                                        const GeometricEstimatorOptions& options = {},

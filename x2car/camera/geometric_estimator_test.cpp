@@ -148,6 +148,21 @@ TEST(GeometricEstimator, AWrongSizedOrEmptyImageIsRejected) {
             FrameRejection::kUnreadableImage);
 }
 
+// A region to leave out that is not of the image's size cannot say which pixels it means: the
+// frame is rejected as the motion estimator rejects it, not read with the region clamped onto it.
+TEST(GeometricEstimator, AnIgnoredRegionOfAnotherSizeIsRejected) {
+  const core::CameraIntrinsics intrinsics = core::camera_preset("kitti");
+  testing::StreetScene scene;
+  const cv::Mat image = testing::draw_street(scene, intrinsics);
+  GeometricEstimatorOptions options;
+  options.ignored_region = cv::Mat(intrinsics.height / 2, intrinsics.width / 2, CV_8UC1,
+                                   cv::Scalar(0));
+  EXPECT_EQ(estimate_frame_geometric(image, intrinsics, options).rejection,
+            FrameRejection::kWrongImageSize);
+  options.ignored_region = cv::Mat(intrinsics.height, intrinsics.width, CV_8UC1, cv::Scalar(0));
+  EXPECT_TRUE(estimate_frame_geometric(image, intrinsics, options).usable());
+}
+
 TEST(GeometricEstimator, ColourImagesAndTheInterfaceGiveTheSameAnswer) {
   const core::CameraIntrinsics intrinsics = core::camera_preset("kitti");
   testing::StreetScene scene;
