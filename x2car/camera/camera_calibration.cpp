@@ -1,7 +1,6 @@
 #include "x2car/camera/camera_calibration.hpp"
 
 #include <fmt/format.h>
-#include <tbb/parallel_for.h>
 #include <tbb/parallel_pipeline.h>
 
 #include <algorithm>
@@ -288,10 +287,15 @@ void estimate_frame(const CameraFrameSource& frames, FrameReader& reader,
   }
 }
 
+// Frames the pipelines estimate at once.
+std::size_t frames_in_flight() {
+  return 2 * std::max<std::size_t>(2, std::thread::hardware_concurrency());
+}
+
 // motion alone: the road plane of every motion_guide_frame_step-th frame (> 0) without a guide (in
-// parallel), and the mounting of the median of their angles as the guide of every frame; nothing
-// when fewer than motion_guide_min_frames found it. Frames that fail here (gated, unreadable, no
-// road) are left to the run itself, which reports them.
+// parallel, read in order), and the mounting of the median of their angles as the guide of every
+// frame; nothing when fewer than motion_guide_min_frames found it. Frames that fail here (gated,
+// unreadable, no road) are left to the run itself, which reports them.
 struct FirstLook {
   std::size_t frames = 0;              // that found the road plane
   std::optional<EulerAngles> typical;  // the median of their angles, when enough
@@ -306,20 +310,50 @@ FirstLook first_look(const CameraFrameSource& frames, FrameReader& reader,
   const std::size_t samples = frames.times.size() / step;
   std::vector<std::optional<EulerAngles>> angles(samples);
   const Eigen::Matrix3d camera_matrix = intrinsics.camera_matrix();
-  tbb::parallel_for(std::size_t{0}, samples, [&](std::size_t sample) {
-    const std::size_t index = sample * step + step - 1;
-    if (motion_gate(motion_at(frames, index), options.filter)) return;
-    try {
-      const cv::Mat image = reader.read(index);
-      const FrameEstimate estimate = estimate_sequence(frames, reader, intrinsics, options,
-                                                       estimator, index, image, std::nullopt);
-      if (!estimate.usable()) return;
-      angles[sample] = vehicle_from_camera_angles(estimate.road_vanishing_point_px,
-                                                  estimate.horizon_line, camera_matrix);
-    } catch (const InputError&) {
-      // The run meets this frame again and reports it (or counts it, skip_bad_images).
-    }
-  });
+  // The samples' frames are read in order, with the ones before them, as the run reads its own: a
+  // video decodes forward only and starts again from its first frame for a frame behind the few it
+  // keeps (video_frames.hpp), so threads reading where they happen to be would decode it many
+  // times over. The pipeline's tokens bound the frames held to what the reader keeps.
+  const auto span = static_cast<std::size_t>(options.motion.tracked_frames);
+  struct Sample {
+    std::size_t sample = 0;
+    cv::Mat image;
+  };
+  std::size_t next_sample = 0;
+  tbb::parallel_pipeline(
+      frames_in_flight(),
+      tbb::make_filter<void, Sample>(
+          tbb::filter_mode::serial_in_order,
+          [&](tbb::flow_control& control) -> Sample {
+            while (next_sample < samples) {
+              const std::size_t sample = next_sample++;
+              const std::size_t index = sample * step + step - 1;
+              if (motion_gate(motion_at(frames, index), options.filter)) continue;
+              try {
+                for (std::size_t i = index + 1 >= span ? index + 1 - span : index; i < index; ++i) {
+                  reader.read(i);
+                }
+                return {sample, reader.read(index)};
+              } catch (const InputError&) {
+                // The run meets this frame again and reports it (or counts it, skip_bad_images).
+              }
+            }
+            control.stop();
+            return {};
+          }) &
+          tbb::make_filter<Sample, void>(tbb::filter_mode::parallel, [&](const Sample& sample) {
+            const std::size_t index = sample.sample * step + step - 1;
+            try {
+              const FrameEstimate estimate =
+                  estimate_sequence(frames, reader, intrinsics, options, estimator, index,
+                                    sample.image, std::nullopt);
+              if (!estimate.usable()) return;
+              angles[sample.sample] = vehicle_from_camera_angles(
+                  estimate.road_vanishing_point_px, estimate.horizon_line, camera_matrix);
+            } catch (const InputError&) {
+              // As above: the run reports it.
+            }
+          }));
   // The medians as offsets from the first sample's angles on the circle (a rear camera's yaw
   // lies at the seam).
   std::optional<EulerAngles> reference;
@@ -342,11 +376,6 @@ FirstLook first_look(const CameraFrameSource& frames, FrameReader& reader,
       vanishing_geometry_from_rotation(rotation_from_euler(*look.typical), camera_matrix);
   if (geometry) look.guide = SequenceGuide{geometry->vanishing_point_px, geometry->horizon_line};
   return look;
-}
-
-// Frames the pipeline estimates at once.
-std::size_t frames_in_flight() {
-  return 2 * std::max<std::size_t>(2, std::thread::hardware_concurrency());
 }
 
 // Every frame through the estimator (in parallel) and the filter (in order).

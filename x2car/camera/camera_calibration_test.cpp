@@ -3,10 +3,12 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <opencv2/core.hpp>
 #include <random>
 #include <stdexcept>
@@ -239,6 +241,39 @@ TEST(CalibrateCamera, MotionDecodesEachFrameOnce) {
   calibrate_camera(frames, core::camera_preset("kitti"), options);
   EXPECT_GE(reads.load(), 40 + options.car_region.sample_frames);
   EXPECT_LE(reads.load(), 64 + options.car_region.sample_frames);
+}
+
+// A video decodes forward only and keeps its last few frames (video_frames.hpp): a frame asked for
+// behind them starts the decoder again from the first frame. The first look must ask for its frames
+// in order as the run does, not in the order its threads reach them: out of order, a one-minute
+// video was decoded some twenty times over.
+TEST(CalibrateCamera, MotionReadsAVideoForwardOnly) {
+  CameraFrameSource frames = street_drive(40);
+  struct ForwardDecoder {
+    std::mutex mutex;
+    std::size_t next = 0;  // the frame it decodes next
+    int restarts = 0;
+  };
+  auto decoder = std::make_shared<ForwardDecoder>();
+  constexpr std::size_t kKeptFrames = 8;
+  frames.read = [decoder, draw = frames.read](std::size_t index) {
+    {
+      const std::lock_guard lock(decoder->mutex);
+      if (index + kKeptFrames < decoder->next) {
+        ++decoder->restarts;
+        decoder->next = 0;
+      }
+      decoder->next = std::max(decoder->next, index + 1);
+    }
+    return draw(index);
+  };
+  CameraCalibrationOptions options = short_windows();
+  options.method = CameraMethod::kMotion;
+  options.motion_guide_frame_step = 4;
+  calibrate_camera(frames, core::camera_preset("kitti"), options);
+  // The car region's samples from the first frame on, then the first look, then the run: two
+  // starts again.
+  EXPECT_LE(decoder->restarts, 2);
 }
 
 TEST(CalibrateCamera, RejectsABadSourceOrOptions) {

@@ -155,8 +155,8 @@ TEST(GeometricEstimator, AnIgnoredRegionOfAnotherSizeIsRejected) {
   testing::StreetScene scene;
   const cv::Mat image = testing::draw_street(scene, intrinsics);
   GeometricEstimatorOptions options;
-  options.ignored_region = cv::Mat(intrinsics.height / 2, intrinsics.width / 2, CV_8UC1,
-                                   cv::Scalar(0));
+  options.ignored_region =
+      cv::Mat(intrinsics.height / 2, intrinsics.width / 2, CV_8UC1, cv::Scalar(0));
   EXPECT_EQ(estimate_frame_geometric(image, intrinsics, options).rejection,
             FrameRejection::kWrongImageSize);
   options.ignored_region = cv::Mat(intrinsics.height, intrinsics.width, CV_8UC1, cv::Scalar(0));
