@@ -11,14 +11,16 @@
 // "camera_optical". Unless --no-info, sensor_msgs/msg/CameraInfo on /camera/camera_info (the image
 // topic's namespace) at every image's stamp, from intrinsics.yaml: k the camera_matrix, d the
 // distortion_coefficients as the YAML lists them, r the rectification, p the projection, binning
-// and roi zero. --topic T names the image topic instead. --ins adds the drive's ins/ins.csv as
+// and roi zero. --topic T names the image topic instead. --format F writes F as the
+// CompressedImage's format (the bytes stay the PNG file's: a reader that takes the format's word
+// for the codec, as x2car does for lossy JPEG, sees F). --ins adds the drive's ins/ins.csv as
 // nav_msgs/msg/Odometry on /odom (as write_pointcloud_mcap.mjs --ins writes it). Caveat: the INS
 // log's stamps are the simulator's clock (seconds from 0), the camera's Unix times (2026), so
 // /odom and the camera's topics do not share a clock, and the odometry all comes first in the
 // file. Messages in time order (a stable sort: at one stamp, the odometry, then the camera info,
 // then the image).
 //   node write_camera_mcap.mjs DRIVE_DIR OUT.mcap [--raw mono8|rgb8|bgr8] [--topic T] [--no-info]
-//                              [--ins]
+//                              [--ins] [--format F]
 import { MessageWriter } from '@foxglove/rosmsg2-serialization';
 import { PNG } from 'pngjs';
 import fs from 'node:fs';
@@ -27,8 +29,8 @@ import { definitionsOf, readInsCsv, odometryMessage } from './ins_odometry.mjs';
 import { openMcap } from './mcap_file.mjs';
 
 const usage = 'usage: node write_camera_mcap.mjs DRIVE_DIR OUT.mcap [--raw mono8|rgb8|bgr8] ' +
-              '[--topic T] [--no-info] [--ins]';
-const options = { raw: undefined, topic: undefined };  // options with a value
+              '[--topic T] [--no-info] [--ins] [--format F]';
+const options = { raw: undefined, topic: undefined, format: 'png' };  // options with a value
 const flags = { 'no-info': false, ins: false };          // options without
 const positional = [];
 const args = process.argv.slice(2);
@@ -179,7 +181,7 @@ if (options.raw) {
   const imageChannel = await channel(imageTopic, 'sensor_msgs/msg/CompressedImage');
   for (const { file, sec, nanosec, stampNs } of frames) {
     const serialize = () => imageWriter.writeMessage({
-      header: { stamp: { sec, nanosec }, frame_id: 'camera_optical' }, format: 'png',
+      header: { stamp: { sec, nanosec }, frame_id: 'camera_optical' }, format: options.format,
       data: new Uint8Array(fs.readFileSync(file)) });
     messages.push({ stampNs, channelId: imageChannel, serialize });
   }

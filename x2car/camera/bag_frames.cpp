@@ -2,10 +2,14 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
 #include <map>
 #include <memory>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -130,6 +134,18 @@ cv::Mat decode_compressed_image(std::string_view bytes, io::RosEncoding encoding
   return grey;
 }
 
+// Whether a CompressedImage's format ("jpeg", "bgr8; jpeg compressed bgr8", "png", ...) is a lossy
+// one: all but PNG.
+bool compressed_format_is_lossy(std::string_view bytes, io::RosEncoding encoding,
+                                const std::string& source) {
+  io::RosMessageReader message(bytes, encoding, source);
+  message.header();
+  std::string format = message.string("format");
+  std::ranges::transform(format, format.begin(),
+                         [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return format.find("png") == std::string::npos;
+}
+
 // The namespace of a topic: all but its last name ("/camera" of "/camera/camera_info").
 std::string namespace_of(const std::string& topic) {
   const std::size_t slash = topic.rfind('/');
@@ -210,6 +226,10 @@ BagFrames camera_frames_from_bag(const std::filesystem::path& path,
     return fmt::format("{} ({} message {})", file, name, shared->at(index).count);
   };
   out.source.name = name_of;
+  if (compressed && !shared->empty()) {
+    out.source.lossy =
+        compressed_format_is_lossy(bag->read(shared->front().ref), encoding, name_of(0));
+  }
   // Shared: the source may be copied, and outlives this call.
   out.source.read = [bag = std::shared_ptr<const io::BagFile>(std::move(bag)), shared, encoding,
                      compressed, name_of](std::size_t index) {

@@ -37,6 +37,8 @@ void CameraCalibrationOptions::Check() const {
   check.that(ignored_region.empty() || ignored_region.type() == CV_8UC1, "ignored_region",
              "must be an 8-bit single-channel image");
   if (detect_car_region) car_region.Check();
+  check.at_least("lossy_tracking_window_px", lossy_tracking_window_px, 5);
+  check.positive("lossy_min_feature_distance_px", lossy_min_feature_distance_px);
 }
 
 namespace {
@@ -108,8 +110,21 @@ struct IgnoredRegion {
   bool detected = false;  // found in the images, not given
 };
 
-// The estimators, leaving out `ignored`.
-Estimators make_estimators(const CameraCalibrationOptions& options, const IgnoredRegion& ignored) {
+// The motion estimator's options for `frames`: lossy_tracking_window_px and its spacing for
+// frames through a lossy codec.
+RoadPlaneMotionOptions motion_options_for(const CameraFrameSource& frames,
+                                          const CameraCalibrationOptions& options) {
+  RoadPlaneMotionOptions motion = options.motion;
+  if (frames.lossy) {
+    motion.tracking_window_px = options.lossy_tracking_window_px;
+    motion.min_feature_distance_px = options.lossy_min_feature_distance_px;
+  }
+  return motion;
+}
+
+// The estimators for `frames`, leaving out `ignored`.
+Estimators make_estimators(const CameraFrameSource& frames, const CameraCalibrationOptions& options,
+                           const IgnoredRegion& ignored) {
   if (options.estimator) return {options.estimator, {}, std::nullopt};
   Estimators estimators;
   if (options.method != CameraMethod::kMotion) {
@@ -118,7 +133,7 @@ Estimators make_estimators(const CameraCalibrationOptions& options, const Ignore
     estimators.single = make_geometric_estimator(geometric);
   }
   if (options.method != CameraMethod::kGeometric) {
-    RoadPlaneMotionOptions motion = options.motion;
+    RoadPlaneMotionOptions motion = motion_options_for(frames, options);
     if (!ignored.region.empty()) motion.ignored_region = ignored.region;
     estimators.sequence = make_road_plane_motion_estimator(motion);
   }
@@ -575,7 +590,7 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
                             const core::CameraIntrinsics& intrinsics,
                             const CameraCalibrationOptions& options) {
   const IgnoredRegion ignored = find_ignored_region(frames, intrinsics, options);
-  Estimators estimators = make_estimators(options, ignored);
+  Estimators estimators = make_estimators(frames, options, ignored);
   // The frames in flight and the ones before them that their pairs need (none without pairs).
   const std::size_t in_flight = frames_in_flight();
   FrameReader reader(frames, intrinsics,
@@ -625,6 +640,10 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
   if (!ignored.region.empty()) {
     result.diagnostics[ignored.detected ? "car_region_share" : "ignored_region_share"] =
         mask_share(ignored.region);
+  }
+  const bool lossy_tracking = frames.lossy && estimators.sequence;
+  if (lossy_tracking) {
+    result.diagnostics["motion_tracking_window_px"] = options.lossy_tracking_window_px;
   }
   if (options.keep_series) write_series(frames, records, filter, result);
   const std::optional<std::string> read_error = first_read_error(records);
@@ -707,6 +726,11 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
     append_reason(result, fmt::format("what stayed in view while the scene moved (the car's own "
                                       "body: {:.1f} % of the image) was left out of the road plane",
                                       100.0 * mask_share(ignored.region)));
+  }
+  if (lossy_tracking) {
+    append_reason(result, fmt::format("frames from a lossy codec (JPEG, video): the road tracked "
+                                      "with a {}-px window",
+                                      options.lossy_tracking_window_px));
   }
   if (read_error) {
     append_reason(result, fmt::format("unreadable images skipped, the first: {}", *read_error));

@@ -61,6 +61,17 @@ struct CameraCalibrationOptions {
   bool estimator_scatters = false;
   GeometricEstimatorOptions geometric;
   RoadPlaneMotionOptions motion;
+  // For frames that came through a lossy codec (CameraFrameSource::lossy: JPEG, video), the motion
+  // estimator's Lucas-Kanade window [px] and its corners' spacing [px] in place of motion's
+  // tracking_window_px and min_feature_distance_px. Such a codec removes the asphalt's fine grain,
+  // and a 21-px window then follows the coding's noise: on rendered drives as H.264 at 0.18 bits a
+  // pixel, the road plane's roll scattered 7 times as much frame to frame as from the lossless
+  // images (tracks 0.77 px off instead of 0.26) and no window was steady. A 41-px window sees the
+  // coarser texture that survives; corners 12 px apart keep their windows from repeating each other
+  // (and the work per frame below the lossless setting's). Lossless frames keep motion's own: with
+  // fewer corners some sparse highway minutes ran out of tracks (docs/methods.md, camera §1a).
+  int lossy_tracking_window_px = 41;
+  double lossy_min_feature_distance_px = 12.0;
   // Pixels the geometric and motion estimators leave out (8-bit, the intrinsics' size; nonzero:
   // left out): the car's own body in view, a logo burnt into the video. Given, it replaces
   // detect_car_region; it overrides geometric's and motion's own. Empty: none given.
@@ -134,6 +145,9 @@ struct CameraFrameSource {
   std::function<std::string(std::size_t index)> name;
   // The car's motion at each frame, when known (a GNSS/INS log); empty or one per frame.
   std::vector<std::optional<VehicleMotion>> motion;
+  // Whether the frames came through a lossy codec (JPEG files or messages, a video): the motion
+  // estimator then tracks with CameraCalibrationOptions::lossy_tracking_window_px.
+  bool lossy = false;
 };
 
 // Returns ok, insufficient_data (the filter's reason: "only 43 frames in stable stretches; need

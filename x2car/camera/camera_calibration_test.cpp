@@ -10,6 +10,7 @@
 #include <memory>
 #include <mutex>
 #include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <random>
 #include <stdexcept>
 #include <vector>
@@ -407,6 +408,35 @@ TEST(CalibrateCamera, MotionAloneGuidesItselfByAFirstLookAndCalibrates) {
   options.motion_guide_frame_step = 0;
   EXPECT_EQ(calibrate_camera(frames, intrinsics, options).diagnostics.count("motion_guide_yaw_deg"),
             0U);
+}
+
+// Frames through a lossy codec lose the asphalt's fine grain, and a small Lucas-Kanade window then
+// follows the coding's noise; such a source is tracked with lossy_tracking_window_px (and says so).
+TEST(CalibrateCamera, MotionTracksLossyFramesWithALargerWindow) {
+  const core::CameraIntrinsics intrinsics = core::camera_preset("kitti");
+  const EulerAngles mounting{rad_from_deg(0.8), rad_from_deg(1.5), rad_from_deg(3.5)};
+  CameraFrameSource frames = road_drive(mounting, intrinsics, [](cv::Mat& picture, int) {
+    std::vector<unsigned char> coded;
+    cv::imencode(".jpg", picture, coded, {cv::IMWRITE_JPEG_QUALITY, 30});
+    picture = cv::imdecode(coded, cv::IMREAD_UNCHANGED);
+  });
+  const CameraCalibrationOptions options = motion_on_road_drive();
+
+  frames.lossy = true;
+  const CalibrationResult lossy = calibrate_camera(frames, intrinsics, options);
+  ASSERT_TRUE(lossy.ok()) << lossy.reason;
+  EXPECT_EQ(lossy.diagnostics.at("motion_tracking_window_px"), 41.0);
+  EXPECT_THAT(lossy.reason, ::testing::HasSubstr("lossy codec"));
+  EXPECT_THAT(*lossy.roll, AngleNearDeg(mounting.roll, 0.1));
+  EXPECT_THAT(*lossy.pitch, AngleNearDeg(mounting.pitch, 0.1));
+  EXPECT_THAT(*lossy.yaw, AngleNearDeg(mounting.yaw, 0.1));
+
+  // The same frames taken as lossless: the 21-px window's roll is 0.2 deg off.
+  frames.lossy = false;
+  const CalibrationResult as_lossless = calibrate_camera(frames, intrinsics, options);
+  EXPECT_EQ(as_lossless.diagnostics.count("motion_tracking_window_px"), 0U);
+  ASSERT_TRUE(as_lossless.roll.has_value());
+  EXPECT_GT(std::abs(deg_from_rad(*as_lossless.roll - mounting.roll)), 0.15);
 }
 
 // A bonnet over the bottom 15 % of the image stays put while the road moves (lit brighter and

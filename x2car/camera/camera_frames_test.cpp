@@ -64,5 +64,19 @@ TEST(CameraFrames, ABrokenImageNamesItsFile) {
   EXPECT_EQ(frames.name(0), (folder / "1.500000.png").string());
 }
 
+// JPEG files are coded with loss (the motion estimator then tracks with its larger window); PNG
+// files are not.
+TEST(CameraFrames, JpegFilesAreLossy) {
+  const fs::path folder = fresh_folder("lossy");
+  const cv::Mat grey(8, 8, CV_8UC1, cv::Scalar(100));
+  cv::imwrite((folder / "1.000000.png").string(), grey);
+  const io::ImageFolder png = io::list_images(folder);
+  EXPECT_FALSE(camera_frames_from(png).lossy);
+  cv::imwrite((folder / "1.100000.JPG").string(), grey);
+  const io::ImageFolder mixed = io::list_images(folder);
+  ASSERT_EQ(mixed.images.size(), 2U);
+  EXPECT_TRUE(camera_frames_from(mixed).lossy);
+}
+
 }  // namespace
 }  // namespace x2car::camera

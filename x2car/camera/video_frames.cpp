@@ -134,6 +134,9 @@ CameraFrameSource camera_frames_from_video(const std::filesystem::path& path,
   }
   auto decoder = std::make_shared<SequentialDecoder>(path, count, options.cached_frames);
   frames.read = [decoder](std::size_t index) { return decoder->frame(index); };
+  // Cameras' videos are coded with loss (H.264, H.265, MJPEG); a lossless one (FFV1) is taken as
+  // lossy too, which costs it little (CameraCalibrationOptions::lossy_tracking_window_px).
+  frames.lossy = true;
   frames.name = [name = path.string()](std::size_t index) {
     return fmt::format("{} frame {}", name, index);
   };

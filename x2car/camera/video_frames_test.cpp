@@ -74,6 +74,7 @@ TEST(VideoFrames, TimesFromTheFrameRateAndFramesInAnyOrder) {
   }
   EXPECT_THROW(reread.read(12), InputError);
   EXPECT_NE(frames.name(3).find("street.avi frame 3"), std::string::npos);
+  EXPECT_TRUE(frames.lossy);  // a camera's video is coded with loss
 }
 
 TEST(VideoFrames, CalibratesLikeTheImages) {
