@@ -328,13 +328,22 @@ FirstLook first_look(const CameraFrameSource& frames, FrameReader& reader,
   // The samples' frames are read in order, with the ones before them, as the run reads its own: a
   // video decodes forward only and starts again from its first frame for a frame behind the few it
   // keeps (video_frames.hpp), so threads reading where they happen to be would decode it many
-  // times over. The pipeline's tokens bound the frames held to what the reader keeps.
+  // times over. The pipeline's tokens bound the frames held to what the reader keeps. As in
+  // run_frames, no exception leaves a filter: the first is rethrown once the pipeline has drained.
+  // An unreadable frame is not one: the run meets it again and reports it (or counts it,
+  // skip_bad_images).
   const auto span = static_cast<std::size_t>(options.motion.tracked_frames);
   struct Sample {
     std::size_t sample = 0;
     cv::Mat image;
   };
   std::size_t next_sample = 0;
+  std::mutex error_mutex;
+  std::exception_ptr first_error;
+  const auto keep_error = [&] {
+    const std::lock_guard lock(error_mutex);
+    if (!first_error) first_error = std::current_exception();
+  };
   tbb::parallel_pipeline(
       frames_in_flight(),
       tbb::make_filter<void, Sample>(
@@ -350,7 +359,10 @@ FirstLook first_look(const CameraFrameSource& frames, FrameReader& reader,
                 }
                 return {sample, reader.read(index)};
               } catch (const InputError&) {
-                // The run meets this frame again and reports it (or counts it, skip_bad_images).
+                continue;  // the run reports it
+              } catch (...) {
+                keep_error();
+                break;
               }
             }
             control.stop();
@@ -366,9 +378,12 @@ FirstLook first_look(const CameraFrameSource& frames, FrameReader& reader,
               angles[sample.sample] = vehicle_from_camera_angles(
                   estimate.road_vanishing_point_px, estimate.horizon_line, camera_matrix);
             } catch (const InputError&) {
-              // As above: the run reports it.
+              return;  // the run reports it
+            } catch (...) {
+              keep_error();
             }
           }));
+  if (first_error) std::rethrow_exception(first_error);
   // The medians as offsets from the first sample's angles on the circle (a rear camera's yaw
   // lies at the seam).
   std::optional<EulerAngles> reference;
