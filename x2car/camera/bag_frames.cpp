@@ -227,8 +227,14 @@ BagFrames camera_frames_from_bag(const std::filesystem::path& path,
   };
   out.source.name = name_of;
   if (compressed && !shared->empty()) {
-    out.source.lossy =
-        compressed_format_is_lossy(bag->read(shared->front().ref), encoding, name_of(0));
+    // A first message that does not parse is reported when it is read (or skipped with
+    // skip_bad_images); its topic is taken as JPEG's, as compressed camera topics mostly are.
+    try {
+      out.source.lossy =
+          compressed_format_is_lossy(bag->read(shared->front().ref), encoding, name_of(0));
+    } catch (const InputError&) {
+      out.source.lossy = true;
+    }
   }
   // Shared: the source may be copied, and outlives this call.
   out.source.read = [bag = std::shared_ptr<const io::BagFile>(std::move(bag)), shared, encoding,
