@@ -134,16 +134,12 @@ cv::Mat decode_compressed_image(std::string_view bytes, io::RosEncoding encoding
   return grey;
 }
 
-// Whether a CompressedImage's format ("jpeg", "bgr8; jpeg compressed bgr8", "png", ...) is a lossy
-// one: all but PNG.
-bool compressed_format_is_lossy(std::string_view bytes, io::RosEncoding encoding,
-                                const std::string& source) {
+// Whether a CompressedImage message's format names a lossy codec.
+bool compressed_message_is_lossy(std::string_view bytes, io::RosEncoding encoding,
+                                 const std::string& source) {
   io::RosMessageReader message(bytes, encoding, source);
   message.header();
-  std::string format = message.string("format");
-  std::ranges::transform(format, format.begin(),
-                         [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return format.find("png") == std::string::npos;
+  return compressed_image_format_is_lossy(message.string("format"));
 }
 
 // The namespace of a topic: all but its last name ("/camera" of "/camera/camera_info").
@@ -153,6 +149,13 @@ std::string namespace_of(const std::string& topic) {
 }
 
 }  // namespace
+
+bool compressed_image_format_is_lossy(std::string_view format) {
+  std::string lower(format);
+  std::ranges::transform(lower, lower.begin(),
+                         [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return lower.find("png") == std::string::npos;
+}
 
 BagFrames camera_frames_from_bag(const std::filesystem::path& path,
                                  const BagFrameOptions& options) {
@@ -231,7 +234,7 @@ BagFrames camera_frames_from_bag(const std::filesystem::path& path,
     // skip_bad_images); its topic is taken as JPEG's, as compressed camera topics mostly are.
     try {
       out.source.lossy =
-          compressed_format_is_lossy(bag->read(shared->front().ref), encoding, name_of(0));
+          compressed_message_is_lossy(bag->read(shared->front().ref), encoding, name_of(0));
     } catch (const InputError&) {
       out.source.lossy = true;
     }

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "x2car/camera/camera_calibration.hpp"
 #include "x2car/core/camera_model.hpp"
@@ -38,5 +39,10 @@ struct BagFrames {
 // InputError when it is read.
 BagFrames camera_frames_from_bag(const std::filesystem::path& bag,
                                  const BagFrameOptions& options = {});
+
+// Whether a CompressedImage's `format` ("jpeg", "bgr8; jpeg compressed bgr8", "png",
+// "rgb8; png compressed bgr8", any case) names a lossy codec: all but PNG. Sets the source's
+// `lossy` from the topic's first message.
+bool compressed_image_format_is_lossy(std::string_view format);
 
 }  // namespace x2car::camera
