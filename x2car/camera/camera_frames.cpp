@@ -1,9 +1,7 @@
 #include "x2car/camera/camera_frames.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <opencv2/imgcodecs.hpp>
-#include <string>
 
 #include "x2car/core/error.hpp"
 
@@ -30,12 +28,8 @@ CameraFrameSource camera_frames_from(const io::ImageFolder& folder) {
   for (const io::ImageFile& image : folder.images) frames.times.push_back(image.time);
   frames.read = [&folder](std::size_t index) { return read_grey_image(folder.images[index].path); };
   frames.name = [&folder](std::size_t index) { return folder.images[index].path.string(); };
-  frames.lossy = std::ranges::any_of(folder.images, [](const io::ImageFile& image) {
-    std::string extension = image.path.extension().string();
-    std::ranges::transform(extension, extension.begin(),
-                           [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return extension == ".jpg" || extension == ".jpeg";
-  });
+  frames.lossy = std::ranges::any_of(
+      folder.images, [](const io::ImageFile& image) { return io::is_jpeg_file(image.path); });
   return frames;
 }
 

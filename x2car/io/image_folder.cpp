@@ -30,11 +30,17 @@ bool file_exists(const fs::path& path) {
   return fs::is_regular_file(path, error);
 }
 
-bool is_image(const fs::path& path) {
+// The file's extension in lower case (".png" of "A.PNG").
+std::string lower_case_extension(const fs::path& path) {
   std::string extension = path.extension().string();
   std::ranges::transform(extension, extension.begin(),
                          [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return extension == ".png" || extension == ".jpg" || extension == ".jpeg";
+  return extension;
+}
+
+bool is_image(const fs::path& path) {
+  const std::string extension = lower_case_extension(path);
+  return extension == ".png" || is_jpeg_file(path);
 }
 
 // Image files directly in `folder`, sorted by name; the other files counted.
@@ -127,6 +133,11 @@ std::optional<fs::path> kitti_camera(const fs::path& folder, std::optional<int> 
 }
 
 }  // namespace
+
+bool is_jpeg_file(const std::filesystem::path& path) {
+  const std::string extension = lower_case_extension(path);
+  return extension == ".jpg" || extension == ".jpeg";
+}
 
 ImageFolder list_images(const fs::path& folder, std::optional<int> camera_index) {
   if (camera_index && (*camera_index < 0 || *camera_index > 9)) {
