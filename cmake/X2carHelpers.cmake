@@ -41,8 +41,13 @@ function(x2car_tests name)
     return()
   endif()
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPENDS" ${ARGN})
+  # GoogleTest's main with a temp folder of each test's own (x2car/core/test_main.cpp).
+  if(NOT TARGET x2car_test_main)
+    add_library(x2car_test_main STATIC ${PROJECT_SOURCE_DIR}/x2car/core/test_main.cpp)
+    target_link_libraries(x2car_test_main PUBLIC GTest::gtest GTest::gmock PRIVATE x2car_warnings)
+  endif()
   add_executable(${name} ${ARG_SOURCES})
-  target_link_libraries(${name} PRIVATE ${ARG_DEPENDS} GTest::gtest GTest::gmock GTest::gtest_main
+  target_link_libraries(${name} PRIVATE ${ARG_DEPENDS} GTest::gtest GTest::gmock x2car_test_main
                                         x2car_warnings)
   # The first test binary builds the tests' precompiled header; the others reuse it.
   get_property(donor GLOBAL PROPERTY X2CAR_TESTS_PCH_DONOR)
@@ -54,8 +59,9 @@ function(x2car_tests name)
   endif()
   # Speed is measured in bench/, never asserted here: a unit test's result must not depend on how
   # busy the machine is.
-  # Each build folder has its own temp folder (::testing::TempDir()), so that two checkouts testing
-  # on one machine never share the files their tests write.
+  # Each build folder has its own temp folder (::testing::TempDir(); each test a folder of its own
+  # inside it, test_main.cpp), so that two checkouts testing on one machine, or two tests running
+  # at once, never share the files their tests write.
   file(MAKE_DIRECTORY ${CMAKE_BINARY_DIR}/test_tmp)
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60
     PROPERTIES ENVIRONMENT "TEST_TMPDIR=${CMAKE_BINARY_DIR}/test_tmp/")
