@@ -148,8 +148,8 @@ cv::Matx23d Augmentation::input_map(const InputGeometry& geometry) const {
   linear << c, s, -s, c;
   linear *= scale;
   if (flip) linear.col(0) = -linear.col(0);
-  // p' = centre + linear (p - centre)
-  const Eigen::Vector2d offset = centre - linear * centre;
+  // p' = centre + linear (p - centre) + shift
+  const Eigen::Vector2d offset = centre - linear * centre + shift_px;
   return {linear(0, 0), linear(0, 1), offset.x(), linear(1, 0), linear(1, 1), offset.y()};
 }
 

@@ -79,12 +79,14 @@ bool passes_through(const Eigen::Vector3d& plane_line, const Eigen::Vector3d& va
 std::vector<int> sample_segments(const std::vector<InputSegment>& segments, int count,
                                  std::uint64_t seed);
 
-// A training augmentation (paper §III-A): a horizontal flip, a rotation about the image's centre
-// by `rotation_rad` (counter-clockwise as a person sees it) and a scaling about it, in that order.
+// A training augmentation: the paper's (§III-A) horizontal flip, rotation about the image's centre
+// by `rotation_rad` (counter-clockwise as a person sees it) and scaling about it, then a shift by
+// `shift_px`, in that order.
 struct Augmentation {
   bool flip = false;
   double rotation_rad = 0.0;
   double scale = 1.0;
+  Eigen::Vector2d shift_px = Eigen::Vector2d::Zero();  // input pixels
 
   // The 2x3 affine map of input pixels.
   cv::Matx23d input_map(const InputGeometry& geometry) const;

@@ -87,8 +87,8 @@ TEST(NetworkInput, SegmentSamplingIsSeededAndKeepsEverySegmentWhenFew) {
 }
 
 // The augmented label must describe the augmented image: a bright dot drawn at the vanishing
-// point lands where the augmented label says, through a flip, a rotation and a scaling; the
-// horizon turns with the image and a flip mirrors it.
+// point lands where the augmented label says, through a flip, a rotation, a scaling and a shift;
+// the horizon turns with the image, a flip mirrors it and a shift leaves it.
 TEST(NetworkInput, AugmentationMovesTheImageAndItsLabelsAlike) {
   const InputGeometry geometry;
   InputFrame frame;
@@ -100,7 +100,9 @@ TEST(NetworkInput, AugmentationMovesTheImageAndItsLabelsAlike) {
   for (const Augmentation& augmentation :
        {Augmentation{false, 0.0, 1.0}, Augmentation{true, 0.0, 1.0},
         Augmentation{false, rad_from_deg(5.0), 1.0}, Augmentation{true, rad_from_deg(-4.0), 1.1},
-        Augmentation{false, rad_from_deg(3.0), 0.9}}) {
+        Augmentation{false, rad_from_deg(3.0), 0.9},
+        Augmentation{false, 0.0, 1.0, Eigen::Vector2d(-20.5, 11.0)},
+        Augmentation{true, rad_from_deg(2.0), 1.05, Eigen::Vector2d(17.0, -9.25)}}) {
     InputFrame augmented;
     InputLabel moved;
     augment(frame, label, augmentation, geometry, augmented, moved);

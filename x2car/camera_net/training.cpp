@@ -55,6 +55,9 @@ void build_batch(const std::vector<const LabelledFrame*>& frames,
     augmentation.rotation_rad = (2.0 * uniform(generator) - 1.0) * options.max_rotation;
     augmentation.scale =
         options.min_scale + uniform(generator) * (options.max_scale - options.min_scale);
+    const double max_shift_px = options.max_shift * network_options.input.width;
+    augmentation.shift_px.x() = (2.0 * uniform(generator) - 1.0) * max_shift_px;
+    augmentation.shift_px.y() = (2.0 * uniform(generator) - 1.0) * max_shift_px;
     augment(frame.frame, frame.label, augmentation, network_options.input, augmented, label);
     const std::vector<int> chosen =
         fill_batch_row(batch.inputs, static_cast<int>(k), augmented, network_options, seed);

@@ -17,6 +17,7 @@ void TrainingOptions::Check() const {
   check.in_range("max_rotation", max_rotation, 0.0, rad_from_deg(45.0));
   check.ordered("min_scale", min_scale, "max_scale", max_scale);
   check.positive("min_scale", min_scale);
+  check.in_range("max_shift", max_shift, 0.0, 0.5);
   check.in_range("line_vp_threshold", line_vp_threshold, 0.0, 1.0, Bounds::kOpenMin);
   check.in_range("threads", threads, 0, 1024);
   check.positive("checkpoint_every_s", checkpoint_every_s);

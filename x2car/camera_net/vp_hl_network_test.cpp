@@ -173,6 +173,7 @@ TEST(VpHlNetwork, ATinyNetworkOverfitsAHandfulOfFrames) {
   training_options.flip_probability = 0.0;  // overfitting: the same four samples every step
   training_options.max_rotation = 0.0;
   training_options.min_scale = training_options.max_scale = 1.0;
+  training_options.max_shift = 0.0;
   training_options.threads = 1;
   const TrainingResult result = train_network(training, training, options, training_options);
   ASSERT_EQ(result.epoch_loss.size(), 300u);
