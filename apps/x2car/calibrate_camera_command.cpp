@@ -125,6 +125,14 @@ void use_learned_estimator(const std::string& model_path, const core::CameraIntr
 int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
   check_output_arguments(arguments.output,
                          {{{"--input", arguments.input_path}, {"--ins", arguments.ins_path}}});
+  // Usage errors before any input is read (a missing --mask file is not the error to report).
+  if (arguments.estimator == kLearnedEstimator) {
+    if (!arguments.mask.empty() && arguments.mask != kNoMask) {
+      throw std::invalid_argument("--mask is for the geometric, motion and auto estimators");
+    }
+  } else if (!arguments.model_path.empty()) {
+    throw std::invalid_argument("--model is for --estimator learned");
+  }
   camera::CameraCalibrationOptions options = calibration_options(arguments);
   io::ImageFolder folder;  // outlives the frames that read from it
   camera::CameraFrameSource frames;
@@ -176,12 +184,7 @@ int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
     options.ignored_region = camera::ignored_region_from_file(arguments.mask, intrinsics);
   }
   if (arguments.estimator == kLearnedEstimator) {
-    if (!arguments.mask.empty() && arguments.mask != kNoMask) {
-      throw std::invalid_argument("--mask is for the geometric, motion and auto estimators");
-    }
     use_learned_estimator(arguments.model_path, intrinsics, options);
-  } else if (!arguments.model_path.empty()) {
-    throw std::invalid_argument("--model is for --estimator learned");
   }
   if (!arguments.ins_path.empty()) {
     frames.motion = camera_motion_from_log(arguments.ins_path, frames, arguments.bag.ins_topic);

@@ -796,13 +796,15 @@ TEST(CalibrateCamera, BadInputExitsWithTwoNamingTheFile) {
                                    (folder / "absent.png").string());
   EXPECT_EQ(no_mask.exit_code, 2) << no_mask.output;
   EXPECT_THAT(no_mask.output, HasSubstr("absent.png"));
-  // The network sees whole images: a mask is a usage error there.
+  // The network sees whole images: a mask is a usage error there, said before the file is read.
   cv::imwrite((folder / "mask.png").string(), cv::Mat(375, 1242, CV_8U, cv::Scalar(255)));
-  const CliRun learned_mask =
-      run_x2car("calibrate camera --input " + folder.string() + " --estimator learned --mask " +
-                (folder / "mask.png").string());
-  EXPECT_EQ(learned_mask.exit_code, 2) << learned_mask.output;
-  EXPECT_THAT(learned_mask.output, HasSubstr("--mask is for the geometric, motion and auto"));
+  for (const char* mask : {"mask.png", "absent.png"}) {
+    const CliRun learned_mask =
+        run_x2car("calibrate camera --input " + folder.string() + " --estimator learned --mask " +
+                  (folder / mask).string());
+    EXPECT_EQ(learned_mask.exit_code, 2) << learned_mask.output;
+    EXPECT_THAT(learned_mask.output, HasSubstr("--mask is for the geometric, motion and auto"));
+  }
   // A broken image.
   io::write_text_file(folder / "camera" / "images" / "0000000001.png", "not a png");
   const CliRun broken = run_x2car("calibrate camera --input " + folder.string());
