@@ -28,6 +28,7 @@ void CameraCalibrationOptions::Check() const {
   if (!estimator && method != CameraMethod::kGeometric) motion.Check();
   check.positive("max_pair_gap_s", max_pair_gap_s);
   check.at_least("noisy_estimator_block_frames", noisy_estimator_block_frames, 1);
+  check.at_least("estimator_min_windows", estimator_min_windows, 1);
   check.at_least("motion_guide_frame_step", motion_guide_frame_step, 0);
   check.at_least("motion_guide_min_frames", motion_guide_min_frames, 1);
   filter.Check();
@@ -668,6 +669,16 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
     result.reason = estimate.reason;
     if (read_error)
       result.reason += fmt::format(" (unreadable images, the first: {})", *read_error);
+    return result;
+  }
+  if (options.estimator &&
+      estimate.windows < static_cast<std::size_t>(options.estimator_min_windows)) {
+    result.status = CalibrationStatus::kInsufficientData;
+    result.reason = fmt::format(
+        "only {} steady window{}; the {} estimator needs {} that agree (its error follows the "
+        "scene for seconds, which one window's spread does not show)",
+        estimate.windows, estimate.windows == 1 ? "" : "s", result.method,
+        options.estimator_min_windows);
     return result;
   }
   result.status = CalibrationStatus::kOk;

@@ -319,6 +319,33 @@ TEST(CalibrateCamera, WindowsThatDisagreeAreUnreliable) {
   EXPECT_NEAR(result.diagnostics.at("window_spread_yaw_deg"), 1.0, 1e-9);
 }
 
+// A caller's estimator (the learned network) may be wrong by the same amount for seconds: one
+// steady window, however steady, gives no number; two that agree do.
+TEST(CalibrateCamera, ACallersEstimatorNeedsTwoWindows) {
+  const core::CameraIntrinsics intrinsics = core::camera_preset("kitti");
+  CameraFrameSource frames;
+  for (int i = 0; i < 18; ++i) frames.times.push_back(0.1 * i);
+  frames.read = [&intrinsics](std::size_t) {
+    return cv::Mat(intrinsics.height, intrinsics.width, CV_8UC1, cv::Scalar(0));
+  };
+  CameraCalibrationOptions options = short_windows();
+  options.estimator_name = "exact";
+  options.estimator = [](const cv::Mat&, const core::CameraIntrinsics& camera) {
+    return exact_estimate(kMounting, camera);
+  };
+  const CalibrationResult one_window = calibrate_camera(frames, intrinsics, options);
+  EXPECT_EQ(one_window.status, CalibrationStatus::kInsufficientData);
+  EXPECT_THAT(one_window.reason,
+              ::testing::HasSubstr("only 1 steady window; the exact estimator needs 2"));
+  EXPECT_FALSE(one_window.roll || one_window.pitch || one_window.yaw);
+  EXPECT_EQ(one_window.support.at("windows"), 1);
+
+  for (int i = 18; i < 24; ++i) frames.times.push_back(0.1 * i);
+  const CalibrationResult two_windows = calibrate_camera(frames, intrinsics, options);
+  ASSERT_TRUE(two_windows.ok()) << two_windows.reason;
+  EXPECT_THAT(*two_windows.yaw, AngleNearDeg(kMounting.yaw, 1e-9));
+}
+
 // An estimator whose angles scatter by 0.5 deg a frame, with no memory (a learned one's), and that
 // fails on every seventh frame: the paper's test on each frame never passes, and a failed frame
 // ends its stretch. Marked `estimator_scatters`, its windows are tested on blocks of frames and its
