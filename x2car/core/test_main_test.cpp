@@ -24,6 +24,8 @@ TEST(TestMain, EachTestHasATempFolderOfItsOwn) {
   expect_own_empty_folder("EachTestHasATempFolderOfItsOwn");
 }
 
-TEST(TestMain, AnotherTestHasAnotherFolder) { expect_own_empty_folder("AnotherTestHasAnotherFolder"); }
+TEST(TestMain, AnotherTestHasAnotherFolder) {
+  expect_own_empty_folder("AnotherTestHasAnotherFolder");
+}
 
 }  // namespace
