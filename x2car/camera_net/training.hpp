@@ -38,9 +38,9 @@ struct TrainingOptions {
   // Beyond the paper's three: a shift on each axis, up to this share of the input's width. Without
   // it the vanishing point stays where each training drive's mounting puts it: a dozen places for a
   // dozen drives, and a network trained so answered held-out mountings with points pulled back
-  // towards those places (its yaw 40-80 % of the way to the training drives' mean). Shifted images
-  // teach it to find the point in the image rather than where it has seen it (docs/methods.md,
-  // camera §1b).
+  // towards those places (three drives yawed 4.2-4.6 deg: its yaw on their straight road fell 20-60
+  // % of the way back to straight ahead). Shifted images teach it to find the point in the image
+  // rather than where it has seen it (docs/methods.md, camera §1b).
   double max_shift = 0.05;  // 25.6 px at the default 512-px input
   // The paper's d_th: a line query passes through the VP when |l . p| / (|l| |p|) is below it.
   double line_vp_threshold = 0.02;
