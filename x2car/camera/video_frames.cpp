@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <deque>
 #include <memory>
@@ -17,6 +16,7 @@
 #include "x2car/camera/grey_image.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/core/options_check.hpp"
+#include "x2car/io/file_extension.hpp"
 #include "x2car/io/image_folder.hpp"
 #include "x2car/io/timestamps_file.hpp"
 
@@ -29,9 +29,7 @@ void VideoFrameOptions::Check() const {
 }
 
 bool is_video_file(const std::filesystem::path& path) {
-  std::string extension = path.extension().string();
-  std::ranges::transform(extension, extension.begin(),
-                         [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string extension = io::lower_case_extension(path);
   return extension == ".mp4" || extension == ".avi" || extension == ".mkv" || extension == ".mov" ||
          extension == ".webm" || extension == ".m4v";
 }

@@ -3,13 +3,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cctype>
 #include <charconv>
 #include <cstdint>
 #include <system_error>
 
 #include "x2car/core/error.hpp"
 #include "x2car/core/options_check.hpp"
+#include "x2car/io/file_extension.hpp"
 #include "x2car/io/file_stem_time.hpp"
 #include "x2car/io/novatel_csv.hpp"
 #include "x2car/io/text_lines.hpp"
@@ -28,14 +28,6 @@ bool folder_exists(const fs::path& path) {
 bool file_exists(const fs::path& path) {
   std::error_code error;
   return fs::is_regular_file(path, error);
-}
-
-// The file's extension in lower case (".png" of "A.PNG").
-std::string lower_case_extension(const fs::path& path) {
-  std::string extension = path.extension().string();
-  std::ranges::transform(extension, extension.begin(),
-                         [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return extension;
 }
 
 bool is_image(const fs::path& path) {

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "x2car/core/test_matchers.hpp"
+#include "x2car/io/file_extension.hpp"
 #include "x2car/io/text_lines.hpp"
 
 namespace x2car::io {
@@ -36,6 +37,15 @@ std::vector<double> times_of(const ImageFolder& folder) {
   std::vector<double> times;
   for (const ImageFile& image : folder.images) times.push_back(image.time);
   return times;
+}
+
+TEST(FileExtension, IsLowerCaseWithItsDot) {
+  EXPECT_EQ(lower_case_extension("frame.PNG"), ".png");
+  EXPECT_EQ(lower_case_extension("/drive/run.Mp4"), ".mp4");
+  EXPECT_EQ(lower_case_extension("sweeps/0001.tar.GZ"), ".gz");
+  EXPECT_EQ(lower_case_extension("README"), "");
+  EXPECT_TRUE(is_jpeg_file("a/B.JPEG"));
+  EXPECT_FALSE(is_jpeg_file("a/b.png"));
 }
 
 TEST(ImageFolder, ReadsASimulatedDriveFolderWithKittiTimestamps) {

@@ -128,12 +128,12 @@ std::string format_row(const InsRecord& r, std::int64_t unix_time_ns) {
                      r.status);
 }
 
-struct ParsedRow {
+struct NovatelRow {
   std::int64_t unix_time_ns = 0;
   InsRecord record;  // time still unset
 };
 
-ParsedRow parse_row(const TextLine& line, const std::string& source) {
+NovatelRow parse_row(const TextLine& line, const std::string& source) {
   const std::vector<std::string_view> f = split_exact_fields(line, kNovatelFields.size(), source);
   const auto where = [&](std::size_t i) {
     return FieldLocation{source, line.number, kNovatelFields[i]};
@@ -151,7 +151,7 @@ ParsedRow parse_row(const TextLine& line, const std::string& source) {
     check_plausible(v[i - 1], kInsMaxSpeed, f[i], "m/s", where(i));
   for (std::size_t i = 8; i <= 10; ++i)
     check_plausible(v[i - 1], kInsMaxAngle, f[i], "rad", where(i));
-  ParsedRow row{*ns, {}};
+  NovatelRow row{*ns, {}};
   row.record.position_enu = {v[1], v[2], v[3]};
   row.record.velocity_enu = {v[5], v[4], v[6]};  // the file has north, east, up
   row.record.attitude = {v[7], v[8], heading_enu_from_azimuth(v[9])};
@@ -261,7 +261,7 @@ NovatelLog parse_novatel_enu(std::string_view text, const std::string& source_na
   std::vector<std::size_t> numbers;
   std::int64_t first_ns = 0;
   for (std::size_t i = 1; i < lines.size(); ++i) {
-    ParsedRow row = parse_row(lines[i], source_name);
+    NovatelRow row = parse_row(lines[i], source_name);
     if (i == 1) first_ns = row.unix_time_ns;
     row.record.time = seconds_between(row.unix_time_ns, first_ns);
     times.push_back(row.record.time);

@@ -3,12 +3,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cctype>
 #include <charconv>
 #include <optional>
 #include <string_view>
 
 #include "x2car/core/error.hpp"
+#include "x2car/io/file_extension.hpp"
 #include "x2car/io/file_stem_time.hpp"
 #include "x2car/io/kitti_velodyne.hpp"
 #include "x2car/io/pcd.hpp"
@@ -20,13 +20,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string lower_extension(const fs::path& path) {
-  std::string extension = path.extension().string();
-  std::ranges::transform(extension, extension.begin(),
-                         [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return extension;
-}
-
 // Regular files directly in `folder`, sorted by name, split into those with `extension` and the
 // count of the rest.
 std::vector<fs::path> files_with_extension(const fs::path& folder, std::string_view extension,
@@ -34,7 +27,7 @@ std::vector<fs::path> files_with_extension(const fs::path& folder, std::string_v
   std::vector<fs::path> matching;
   for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
     if (!entry.is_regular_file()) continue;
-    if (lower_extension(entry.path()) == extension) {
+    if (io::lower_case_extension(entry.path()) == extension) {
       matching.push_back(entry.path());
     } else {
       ++others;
