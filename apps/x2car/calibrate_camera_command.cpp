@@ -115,11 +115,7 @@ void use_learned_estimator(const std::string& model_path, const core::CameraIntr
   camera_net::check_network_fits(*network, intrinsics, path);
   spdlog::info("learned estimator: {} ({}x{} input)", path, network->options().input.width,
                network->options().input.height);
-  options.estimator = camera_net::make_learned_estimator(std::move(network));
-  options.estimator_name = kLearnedEstimator;
-  // Its angles scatter by ~0.5 deg from frame to frame (docs/methods.md, camera §1b): the window's
-  // test is on blocks of frames.
-  options.estimator_scatters = true;
+  camera_net::configure_learned_calibration(options, std::move(network));
 }
 
 int run_calibrate_camera(const CalibrateCameraArguments& arguments) {

@@ -29,6 +29,7 @@ void CameraCalibrationOptions::Check() const {
   check.positive("max_pair_gap_s", max_pair_gap_s);
   check.at_least("noisy_estimator_block_frames", noisy_estimator_block_frames, 1);
   check.at_least("estimator_min_windows", estimator_min_windows, 1);
+  check.at_least("estimator_standard_error_floor", estimator_standard_error_floor, 0.0);
   check.at_least("motion_guide_frame_step", motion_guide_frame_step, 0);
   check.at_least("motion_guide_min_frames", motion_guide_min_frames, 1);
   filter.Check();
@@ -735,6 +736,17 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
     }
   }
   result.yaw_std = estimate.standard_error.yaw;
+  if (options.estimator && options.estimator_standard_error_floor > 0.0) {
+    for (std::optional<double>* std : {&result.roll_std, &result.pitch_std, &result.yaw_std}) {
+      **std = std::hypot(**std, options.estimator_standard_error_floor);
+    }
+    result.diagnostics["estimator_standard_error_floor_deg"] =
+        deg_from_rad(options.estimator_standard_error_floor);
+    append_reason(result,
+                  fmt::format("the {} estimator's own error on a drive, which its windows "
+                              "share, is in each standard error as {:.2g} deg",
+                              result.method, deg_from_rad(options.estimator_standard_error_floor)));
+  }
   const EulerAngles spread = window_spread(filter.windows());
   result.diagnostics["window_spread_roll_deg"] = deg_from_rad(spread.roll);
   result.diagnostics["window_spread_pitch_deg"] = deg_from_rad(spread.pitch);

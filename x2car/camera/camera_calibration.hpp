@@ -56,8 +56,8 @@ struct CameraCalibrationOptions {
   FrameEstimator estimator;
   // The name the result's `method` reports for `estimator`.
   std::string estimator_name;
-  // Whether `estimator`'s angles scatter from frame to frame with no memory (a learned one): it is
-  // then filtered as the motion estimator is (noisy_estimator_block_frames).
+  // Whether `estimator`'s angles scatter from frame to frame (a learned one): it is then filtered
+  // as the motion estimator is (noisy_estimator_block_frames).
   bool estimator_scatters = false;
   // `estimator` calibrates only from at least this many steady windows. A learned one's error
   // follows the scene for seconds (docs/methods.md, camera §1b), which a window's own spread does
@@ -65,6 +65,10 @@ struct CameraCalibrationOptions {
   // drive mixed 303 the shipped network's only window said yaw 2.8 deg off the truth at a standard
   // error of 0.28 deg. Fewer is insufficient_data.
   int estimator_min_windows = 2;
+  // Added in quadrature to the standard errors of `estimator`'s angles [rad]: its own error on a
+  // drive, which its windows share and no spread between them shows (0: none; a learned
+  // estimator's: camera_net::LearnedEstimatorOptions::standard_error_floor).
+  double estimator_standard_error_floor = 0.0;
   GeometricEstimatorOptions geometric;
   RoadPlaneMotionOptions motion;
   // For frames that came through a lossy codec (CameraFrameSource::lossy: JPEG, video), the motion

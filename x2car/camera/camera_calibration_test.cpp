@@ -344,6 +344,16 @@ TEST(CalibrateCamera, ACallersEstimatorNeedsTwoWindows) {
   const CalibrationResult two_windows = calibrate_camera(frames, intrinsics, options);
   ASSERT_TRUE(two_windows.ok()) << two_windows.reason;
   EXPECT_THAT(*two_windows.yaw, AngleNearDeg(kMounting.yaw, 1e-9));
+
+  // What its windows share, no spread shows: its floor is in every standard error.
+  options.estimator_standard_error_floor = rad_from_deg(0.45);
+  const CalibrationResult floored = calibrate_camera(frames, intrinsics, options);
+  ASSERT_TRUE(floored.ok()) << floored.reason;
+  EXPECT_DOUBLE_EQ(*floored.roll_std, std::hypot(*two_windows.roll_std, rad_from_deg(0.45)));
+  EXPECT_DOUBLE_EQ(*floored.pitch_std, std::hypot(*two_windows.pitch_std, rad_from_deg(0.45)));
+  EXPECT_DOUBLE_EQ(*floored.yaw_std, std::hypot(*two_windows.yaw_std, rad_from_deg(0.45)));
+  EXPECT_DOUBLE_EQ(floored.diagnostics.at("estimator_standard_error_floor_deg"), 0.45);
+  EXPECT_THAT(floored.reason, ::testing::HasSubstr("exact estimator's own error on a drive"));
 }
 
 // An estimator whose angles scatter by 0.5 deg a frame, with no memory (a learned one's), and that

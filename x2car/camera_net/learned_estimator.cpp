@@ -15,6 +15,7 @@ void LearnedEstimatorOptions::Check() const {
   check.in_range("lsd_scale", lsd_scale, 0.0, 1.0, Bounds::kOpenMin);
   check.non_negative("min_segment_length_px", min_segment_length_px);
   check.in_range("max_aspect_difference", max_aspect_difference, 0.0, 1.0);
+  check.non_negative("standard_error_floor", standard_error_floor);
 }
 
 void check_network_fits(const VpHlNetwork& network, const core::CameraIntrinsics& intrinsics,
@@ -80,6 +81,15 @@ camera::FrameEstimator make_learned_estimator(std::shared_ptr<const VpHlNetwork>
     estimate.quality = lines > 0 ? probability / lines : 0.0;
     return estimate;
   };
+}
+
+void configure_learned_calibration(camera::CameraCalibrationOptions& calibration,
+                                   std::shared_ptr<const VpHlNetwork> network,
+                                   const LearnedEstimatorOptions& options) {
+  calibration.estimator = make_learned_estimator(std::move(network), options);
+  calibration.estimator_name = "learned";
+  calibration.estimator_scatters = true;
+  calibration.estimator_standard_error_floor = options.standard_error_floor;
 }
 
 }  // namespace x2car::camera_net

@@ -9,9 +9,11 @@
 #include <memory>
 #include <string>
 
+#include "x2car/camera/camera_calibration.hpp"
 #include "x2car/camera/frame_estimate.hpp"
 #include "x2car/camera_net/vp_hl_network.hpp"
 #include "x2car/core/camera_model.hpp"
+#include "x2car/core/rotation.hpp"
 
 namespace x2car::camera_net {
 
@@ -23,6 +25,13 @@ struct LearnedEstimatorOptions {
   // shape: their aspect ratios may differ by at most this share (the input is resampled per axis,
   // so another shape would turn every line the network learnt).
   double max_aspect_difference = 0.01;
+  // The floor of a calibration's standard errors by the network [rad] (camera::
+  // CameraCalibrationOptions::estimator_standard_error_floor): its error on a whole drive, which
+  // all its windows share. Measured for the shipped network on ten one-minute drives it never saw
+  // (KITTI camera, urban and highway, seeds 301-305): the median error of each drive's straight,
+  // moving frames had an RMS of 0.38 deg (roll), 0.37 (pitch), 0.45 (yaw) over the drives. A
+  // network of one's own should be measured alike (docs/methods.md, camera §1b).
+  double standard_error_floor = rad_from_deg(0.45);
 
   // Throws std::invalid_argument naming the offending field.
   void Check() const;
@@ -38,5 +47,12 @@ void check_network_fits(const VpHlNetwork& network, const core::CameraIntrinsics
 // The estimator; the network is shared between the calibrator's threads (predict() serialises).
 camera::FrameEstimator make_learned_estimator(std::shared_ptr<const VpHlNetwork> network,
                                               const LearnedEstimatorOptions& options = {});
+
+// `calibration` set to calibrate with the network: its estimator, named "learned", its windows
+// tested on blocks of frames (its angles scatter by ~0.5 deg from frame to frame:
+// estimator_scatters) and its standard errors' floor.
+void configure_learned_calibration(camera::CameraCalibrationOptions& calibration,
+                                   std::shared_ptr<const VpHlNetwork> network,
+                                   const LearnedEstimatorOptions& options = {});
 
 }  // namespace x2car::camera_net

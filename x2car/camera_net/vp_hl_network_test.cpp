@@ -267,5 +267,22 @@ TEST(LearnedEstimator, GivesAFiniteEstimateAndRejectsAnImageOfTheWrongSize) {
   EXPECT_EQ(estimator(small, intrinsics).rejection, camera::FrameRejection::kWrongImageSize);
 }
 
+// calibrate camera --estimator learned: the network's estimator, its windows tested on blocks of
+// frames, two of them needed, and its own error on a drive in the standard errors.
+TEST(LearnedEstimator, ConfiguresACalibration) {
+  if (!network_available()) GTEST_SKIP() << "built without LibTorch";
+  camera::CameraCalibrationOptions calibration;
+  LearnedEstimatorOptions options;
+  options.standard_error_floor = 0.01;
+  configure_learned_calibration(calibration, std::make_shared<const VpHlNetwork>(tiny_network(), 1),
+                                options);
+  EXPECT_TRUE(static_cast<bool>(calibration.estimator));
+  EXPECT_EQ(calibration.estimator_name, "learned");
+  EXPECT_TRUE(calibration.estimator_scatters);
+  EXPECT_EQ(calibration.estimator_min_windows, 2);
+  EXPECT_EQ(calibration.estimator_standard_error_floor, 0.01);
+  calibration.Check();
+}
+
 }  // namespace
 }  // namespace x2car::camera_net
