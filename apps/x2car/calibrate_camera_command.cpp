@@ -50,7 +50,7 @@ struct CalibrateCameraArguments {
 };
 
 // The name --estimator takes for the paper's network (camera_net), beside the camera module's.
-constexpr const char* kLearnedEstimator = "learned";
+constexpr const char* kLearnedEstimator = camera_net::kLearnedEstimatorName;
 // --mask's word for "leave nothing out, and do not look for the car's body".
 constexpr const char* kNoMask = "none";
 // The network shipped in the repository (models/README.md), where this build's sources are.

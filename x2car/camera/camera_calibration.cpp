@@ -737,8 +737,9 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
   }
   result.yaw_std = estimate.standard_error.yaw;
   if (options.estimator && options.estimator_standard_error_floor > 0.0) {
-    for (std::optional<double>* std : {&result.roll_std, &result.pitch_std, &result.yaw_std}) {
-      **std = std::hypot(**std, options.estimator_standard_error_floor);
+    for (std::optional<double>* standard_error :
+         {&result.roll_std, &result.pitch_std, &result.yaw_std}) {
+      **standard_error = std::hypot(**standard_error, options.estimator_standard_error_floor);
     }
     result.diagnostics["estimator_standard_error_floor_deg"] =
         deg_from_rad(options.estimator_standard_error_floor);

@@ -87,7 +87,7 @@ void configure_learned_calibration(camera::CameraCalibrationOptions& calibration
                                    std::shared_ptr<const VpHlNetwork> network,
                                    const LearnedEstimatorOptions& options) {
   calibration.estimator = make_learned_estimator(std::move(network), options);
-  calibration.estimator_name = "learned";
+  calibration.estimator_name = kLearnedEstimatorName;
   calibration.estimator_scatters = true;
   calibration.estimator_standard_error_floor = options.standard_error_floor;
 }

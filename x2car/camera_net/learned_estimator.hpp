@@ -17,6 +17,9 @@
 
 namespace x2car::camera_net {
 
+// The estimator's name: `calibrate camera --estimator learned` and the result's `method`.
+inline constexpr const char* kLearnedEstimatorName = "learned";
+
 struct LearnedEstimatorOptions {
   double lsd_scale = 0.8;               // LSD on the network's input image
   double min_segment_length_px = 10.0;  // input pixels
@@ -48,8 +51,8 @@ void check_network_fits(const VpHlNetwork& network, const core::CameraIntrinsics
 camera::FrameEstimator make_learned_estimator(std::shared_ptr<const VpHlNetwork> network,
                                               const LearnedEstimatorOptions& options = {});
 
-// `calibration` set to calibrate with the network: its estimator, named "learned", its windows
-// tested on blocks of frames (its angles scatter by ~0.5 deg from frame to frame:
+// `calibration` set to calibrate with the network: its estimator, named kLearnedEstimatorName, its
+// windows tested on blocks of frames (its angles scatter by ~0.5 deg from frame to frame:
 // estimator_scatters) and its standard errors' floor.
 void configure_learned_calibration(camera::CameraCalibrationOptions& calibration,
                                    std::shared_ptr<const VpHlNetwork> network,

@@ -277,7 +277,7 @@ TEST(LearnedEstimator, ConfiguresACalibration) {
   configure_learned_calibration(calibration, std::make_shared<const VpHlNetwork>(tiny_network(), 1),
                                 options);
   EXPECT_TRUE(static_cast<bool>(calibration.estimator));
-  EXPECT_EQ(calibration.estimator_name, "learned");
+  EXPECT_EQ(calibration.estimator_name, "learned");  // the CLI's word
   EXPECT_TRUE(calibration.estimator_scatters);
   EXPECT_EQ(calibration.estimator_min_windows, 2);
   EXPECT_EQ(calibration.estimator_standard_error_floor, 0.01);
