@@ -4,6 +4,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "x2car/core/error.hpp"
+#include "x2car/io/file_extension.hpp"
 
 namespace x2car::camera {
 

@@ -12,4 +12,9 @@ std::string lower_case_extension(const std::filesystem::path& path) {
   return extension;
 }
 
+bool is_jpeg_file(const std::filesystem::path& path) {
+  const std::string extension = lower_case_extension(path);
+  return extension == ".jpg" || extension == ".jpeg";
+}
+
 }  // namespace x2car::io

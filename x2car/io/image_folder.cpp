@@ -126,11 +126,6 @@ std::optional<fs::path> kitti_camera(const fs::path& folder, std::optional<int> 
 
 }  // namespace
 
-bool is_jpeg_file(const std::filesystem::path& path) {
-  const std::string extension = lower_case_extension(path);
-  return extension == ".jpg" || extension == ".jpeg";
-}
-
 ImageFolder list_images(const fs::path& folder, std::optional<int> camera_index) {
   if (camera_index && (*camera_index < 0 || *camera_index > 9)) {
     reject_argument("list_images: camera index {} is not 0-9", *camera_index);

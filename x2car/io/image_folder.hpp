@@ -41,7 +41,4 @@ struct ImageFolder {
 ImageFolder list_images(const std::filesystem::path& folder,
                         std::optional<int> camera_index = std::nullopt);
 
-// Whether the file is a JPEG image by its name (.jpg, .jpeg, any case): coded with loss.
-bool is_jpeg_file(const std::filesystem::path& path);
-
 }  // namespace x2car::io
