@@ -234,10 +234,14 @@ void run(const std::string& drive, double segment_s, bool with_ins,
     while (end < frames.times.size() && frames.times[end] < frames.times[begin] + segment_s) ++end;
     // A tail shorter than half a segment is not a segment of its own.
     if (begin > 0 && frames.times[end - 1] - frames.times[begin] < 0.5 * segment_s) break;
+    // A segment that is the whole drive is the result above (the calibration is deterministic):
+    // not calibrated again, and not counted twice in the coverage.
+    const bool whole_drive = begin == 0 && end == frames.times.size();
     const CalibrationResult part =
-        camera::calibrate_camera(slice(frames, begin, end), intrinsics, options);
+        whole_drive ? whole
+                    : camera::calibrate_camera(slice(frames, begin, end), intrinsics, options);
     const Errors e = errors_of(part, truth);
-    if (begin > 0 || end < frames.times.size()) {  // not the whole drive again
+    if (!whole_drive) {
       add_coverage_runs(
           fmt::format("{} from {:.0f} s", drive, frames.times[begin] - frames.times.front()), part,
           e, summary);
