@@ -326,11 +326,22 @@ std::optional<Eigen::Matrix3d> searched_seed(RoadCorrelation& correlation,
   return pixel_homography(std::log(first) + k * step);
 }
 
-// The road region of step 1: below the row of `road_region_depression`, inside the wedge of
-// `max_lateral_over_height`.
+// The road region of step 1: below the row of `road_region_depression` under the road's horizon,
+// inside the wedge of `max_lateral_over_height` about the principal point. For a level camera the
+// road's horizon is the principal point's row; with a guide (`road_region_at_guide`) it is the
+// guide's vanishing point's row where that lies lower (a camera pitched up).
 cv::Mat road_region_mask(const cv::Size& size, const core::CameraIntrinsics& intrinsics,
-                         const RoadPlaneMotionOptions& options) {
-  const double top_row = intrinsics.cy + intrinsics.fy * std::tan(options.road_region_depression);
+                         const RoadPlaneMotionOptions& options,
+                         const std::optional<SequenceGuide>& guide) {
+  double horizon_elevation = 0.0;  // below the optical axis [rad]
+  if (guide && options.road_region_at_guide && guide->vanishing_point_px.allFinite()) {
+    horizon_elevation =
+        std::max(0.0, std::atan((guide->vanishing_point_px.y() - intrinsics.cy) / intrinsics.fy));
+  }
+  const double top_row =
+      intrinsics.cy +
+      intrinsics.fy *
+          std::tan(std::min(horizon_elevation + options.road_region_depression, 0.49 * kPi));
   const int top = std::clamp(static_cast<int>(std::ceil(top_row)), 0, size.height - 1);
   cv::Mat mask = cv::Mat::zeros(size, CV_8U);
   mask.rowRange(top, size.height).setTo(255);
@@ -607,7 +618,7 @@ FrameEstimate fit_road_plane(const std::vector<cv::Mat>& greys,
   if (!options.ignored_region.empty() && options.ignored_region.size() != oldest.size()) {
     return rejected_frame(FrameRejection::kWrongImageSize);
   }
-  cv::Mat mask = road_region_mask(oldest.size(), intrinsics, options);
+  cv::Mat mask = road_region_mask(oldest.size(), intrinsics, options, guide);
   if (!options.ignored_region.empty()) mask.setTo(0, options.ignored_region);
   // The corners down to the weaker of the two qualities, strongest first: those of the tracked
   // seed (feature_quality) are a prefix of them (goodFeaturesToTrack's order and suppression).

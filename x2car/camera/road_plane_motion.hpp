@@ -70,6 +70,14 @@ struct RoadPlaneMotionOptions {
   // roll on rendered urban 302; with tracked corners and a kerb at the lane's edge, +0.27 deg at
   // 2 heights on urban 303.
   double max_lateral_over_height = 1.5;
+  // With a guide, the region's top row is `road_region_depression` below the guide's road
+  // horizon when that lies below the principal point (a camera pitched up), instead of below the
+  // principal point. A camera pitched up 2.7 deg sees the road's horizon 35 px below the KITTI
+  // camera's centre: a region placed for a level camera began 4 px under it, where the road is far
+  // and moves little, and on two such one-minute drives no window was steady (docs/methods.md,
+  // camera §5). A camera pitched down keeps the level camera's region, and the wedge stays about
+  // the principal point.
+  bool road_region_at_guide = true;
   // Lucas-Kanade window [px] and pyramid levels (a level halves the image; the flow near the
   // image's bottom edge reaches tens of pixels per frame).
   int tracking_window_px = 21;

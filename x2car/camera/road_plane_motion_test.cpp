@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <random>
@@ -90,6 +91,44 @@ TEST(RoadPlaneMotion, TracksThroughTheRoadsStretchDoNotTiltThePlane) {
     // Within 0.006 deg here; tracked once (prewarp off), pairs missed by up to 0.13 deg.
     EXPECT_NEAR(deg_from_rad(angles_of(estimate, intrinsics).roll - mounting.roll), 0.0, 0.05)
         << "after " << start << " m";
+  }
+}
+
+// A camera pitched up 2.7 deg sees the road's horizon 35 px below the KITTI camera's centre, and a
+// region placed for a level camera (3 deg below the centre) begins 4 px under it. With a guide the
+// region begins 3 deg below the guide's horizon instead; a camera pitched down keeps the level
+// camera's region.
+TEST(RoadPlaneMotion, AGuideMovesTheRegionBelowAPitchedUpCamerasHorizon) {
+  const core::CameraIntrinsics intrinsics = core::camera_preset("kitti");
+  const RoadPlaneMotionOptions options;
+  const double level_top_row =
+      intrinsics.cy + intrinsics.fy * std::tan(options.road_region_depression);
+  for (const double pitch_deg : {-2.7, 1.5}) {
+    const EulerAngles mounting{0.0, rad_from_deg(pitch_deg), rad_from_deg(1.0)};
+    const std::optional<VanishingGeometry> truth =
+        vanishing_geometry_from_rotation(rotation_from_euler(mounting), intrinsics.camera_matrix());
+    ASSERT_TRUE(truth);
+    const SequenceGuide guide{truth->vanishing_point_px, truth->horizon_line};
+    const std::vector<cv::Mat> frames{testing::road_picture(mounting, intrinsics, 5.0),
+                                      testing::road_picture(mounting, intrinsics, 6.0)};
+    const double guided_top_row =
+        pitch_deg < 0.0 ? intrinsics.cy + intrinsics.fy * std::tan(rad_from_deg(-pitch_deg) +
+                                                                   options.road_region_depression)
+                        : level_top_row;
+    const auto highest_row = [](const RoadTracks& tracks) {
+      double highest = std::numeric_limits<double>::infinity();
+      for (const Eigen::Vector2d& point : tracks.oldest_px) highest = std::min(highest, point.y());
+      return highest;
+    };
+    const RoadTracks guided = road_plane_tracks(frames, intrinsics, options, guide);
+    const RoadTracks unguided = road_plane_tracks(frames, intrinsics, options);
+    ASSERT_FALSE(guided.oldest_px.empty());
+    ASSERT_FALSE(unguided.oldest_px.empty());
+    EXPECT_GE(highest_row(guided), guided_top_row - 1.0) << pitch_deg << " deg";
+    EXPECT_GE(highest_row(unguided), level_top_row - 1.0) << pitch_deg << " deg";
+    if (pitch_deg < 0.0) {
+      EXPECT_LT(highest_row(unguided), guided_top_row - 10.0);  // tracks the guide leaves out
+    }
   }
 }
 
