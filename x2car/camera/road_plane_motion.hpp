@@ -75,8 +75,8 @@ struct RoadPlaneMotionOptions {
   // principal point. A camera pitched up 2.7 deg sees the road's horizon 35 px below the KITTI
   // camera's centre: a region placed for a level camera began 4 px under it, where the road is far
   // and moves little, and two such one-minute drives gave no result (docs/methods.md, camera §5;
-  // both calibrate now). A camera pitched down keeps the level camera's region, and the wedge stays about
-  // the principal point.
+  // both calibrate now). A camera pitched down keeps the level camera's region, and the wedge stays
+  // about the principal point.
   bool road_region_at_guide = true;
   // Lucas-Kanade window [px] and pyramid levels (a level halves the image; the flow near the
   // image's bottom edge reaches tens of pixels per frame).
