@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <cmath>
 #include <deque>
 #include <memory>
@@ -17,7 +16,6 @@
 #include "x2car/core/error.hpp"
 #include "x2car/core/options_check.hpp"
 #include "x2car/io/file_extension.hpp"
-#include "x2car/io/image_folder.hpp"
 #include "x2car/io/timestamps_file.hpp"
 
 namespace x2car::camera {
