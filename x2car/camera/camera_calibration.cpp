@@ -160,18 +160,24 @@ cv::Mat read_frame(const CameraFrameSource& frames, const core::CameraIntrinsics
 
 // read_frame through a cache of the frames decoded last: the motion estimator pairs each frame
 // with the ones before it, and frames are estimated in parallel, in no fixed order, so without it
-// every frame is decoded tracked_frames times (decoding a PNG is a quarter of the motion
-// estimator's time). At most `capacity` frames are kept (0: none), the one decoded first evicted
-// first (not the lowest index: the first look's frames lie all over the drive); one evicted before
-// its last use is decoded again, so what is estimated never depends on the order. Two threads that
-// miss the same frame at once both decode it.
+// every frame is decoded tracked_frames times (decoding a PNG is a sixth of the motion estimator's
+// time). At most `capacity` frames are kept (0: none), the one decoded first evicted first (not the
+// lowest index: the first look's frames lie all over the drive); one evicted before its last use is
+// decoded again, so what is estimated never depends on the order. Two threads that miss the same
+// frame at once both decode it. Beside them, frames read through hold() stay, up to
+// `held_bytes` of images, until release_through() passes them: the first look's frames, which
+// the run reads again.
 class FrameReader {
  public:
   FrameReader(const CameraFrameSource& frames, const core::CameraIntrinsics& intrinsics,
-              std::size_t capacity)
-      : frames_(frames), intrinsics_(intrinsics), capacity_(capacity) {}
+              std::size_t capacity, std::size_t held_bytes)
+      : frames_(frames), intrinsics_(intrinsics), capacity_(capacity), held_bytes_(held_bytes) {}
 
   cv::Mat read(std::size_t index) {
+    {
+      const std::lock_guard lock(mutex_);
+      if (const auto held = held_.find(index); held != held_.end()) return held->second;
+    }
     if (capacity_ == 0) return read_frame(frames_, intrinsics_, index);
     {
       const std::lock_guard lock(mutex_);
@@ -188,13 +194,38 @@ class FrameReader {
     return image;
   }
 
+  // read, and keep the frame until release_through passes it, while the frames held fit in
+  // held_bytes.
+  cv::Mat hold(std::size_t index) {
+    cv::Mat image = read(index);
+    const std::size_t bytes = image.total() * image.elemSize();
+    const std::lock_guard lock(mutex_);
+    if (!held_.contains(index) && bytes <= held_bytes_ - bytes_held_) {
+      held_.emplace(index, image);
+      bytes_held_ += bytes;
+    }
+    return image;
+  }
+
+  // Lets go of the held frames up to `last` (the run reads none of them again).
+  void release_through(std::size_t last) {
+    const std::lock_guard lock(mutex_);
+    while (!held_.empty() && held_.begin()->first <= last) {
+      bytes_held_ -= held_.begin()->second.total() * held_.begin()->second.elemSize();
+      held_.erase(held_.begin());
+    }
+  }
+
  private:
   const CameraFrameSource& frames_;
   const core::CameraIntrinsics& intrinsics_;
   std::size_t capacity_;
+  std::size_t held_bytes_;
   std::mutex mutex_;
   std::map<std::size_t, cv::Mat> kept_;
   std::deque<std::size_t> decoded_order_;  // the indices in kept_, oldest first
+  std::map<std::size_t, cv::Mat> held_;
+  std::size_t bytes_held_ = 0;
 };
 
 // The motion estimate of frame `index` from it and the frames before (read through the cache:
@@ -357,9 +388,9 @@ FirstLook first_look(const CameraFrameSource& frames, FrameReader& reader,
               if (motion_gate(motion_at(frames, index), options.filter)) continue;
               try {
                 for (std::size_t i = index + 1 >= span ? index + 1 - span : index; i < index; ++i) {
-                  reader.read(i);
+                  reader.hold(i);
                 }
-                return {sample, reader.read(index)};
+                return {sample, reader.hold(index)};
               } catch (const InputError&) {
                 continue;  // the run reports it
               } catch (...) {
@@ -423,6 +454,7 @@ std::vector<FrameRecord> run_frames(const CameraFrameSource& frames, FrameReader
   std::exception_ptr first_error;
   std::atomic<bool> stopping = false;
   const std::size_t in_flight = frames_in_flight();
+  const auto span = static_cast<std::size_t>(std::max(options.motion.tracked_frames, 1));
   // No exception may leave a filter (a cancelled pipeline leaks its tokens' work): the first error
   // in frame order stops the reading and is rethrown once the pipeline has drained.
   tbb::parallel_pipeline(
@@ -458,6 +490,9 @@ std::vector<FrameRecord> run_frames(const CameraFrameSource& frames, FrameReader
                 }
                 verdicts[index] = filter.add(frames.times[index], record.angles,
                                              motion_at(frames, index), record.road_plane);
+                // Every frame up to here is estimated; the pairs still to come read from
+                // index + 2 - span on.
+                if (index + 1 >= span) reader.release_through(index + 1 - span);
                 if (options.progress) options.progress(index + 1, count);
               }));
   if (first_error) std::rethrow_exception(first_error);
@@ -613,7 +648,8 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
   FrameReader reader(frames, intrinsics,
                      estimators.sequence
                          ? 2 * in_flight + static_cast<std::size_t>(options.motion.tracked_frames)
-                         : 0);
+                         : 0,
+                     options.first_look_kept_bytes);
   std::optional<FirstLook> look;  // motion alone, unless motion_guide_frame_step is 0
   if (estimators.sequence && !estimators.single && options.motion_guide_frame_step > 0) {
     look = first_look(frames, reader, intrinsics, options, estimators.sequence);

@@ -100,6 +100,10 @@ struct CameraCalibrationOptions {
   // tenth more time.
   int motion_guide_frame_step = 10;
   int motion_guide_min_frames = 10;
+  // The frames the first look decodes (a fifth of them at step 10, with tracked_frames 2) are kept
+  // for the run, up to this many bytes of images [B], and let go once the run has passed them:
+  // decoding is a sixth of the motion estimator's time. 0: none kept (the run decodes them again).
+  std::size_t first_look_kept_bytes = std::size_t{256} << 20;
   // The motion estimator pairs a frame with the one before it when they are at most this far apart
   // [s]; otherwise the frame is no_previous_frame (0.25 s: down to 4 Hz video; past it the road
   // ahead moves out of the lower image between frames at city speeds).

@@ -221,27 +221,42 @@ TEST(CalibrateCamera, MotionPairsFramesAndCountsWhyNot) {
 // The motion estimator pairs each frame with the one before it, and frames are estimated in
 // parallel: each frame is decoded once for both turns (the calibrator keeps the frames decoded
 // last), not twice. The first look (every 4th frame here) decodes its frames and the ones before
-// them first, all over the drive; they must not crowd the run's frames out of the cache.
+// them first, all over the drive; they must not crowd the run's frames out of the cache, and the
+// run reads them again from where the first look kept them (first_look_kept_bytes).
 TEST(CalibrateCamera, MotionDecodesEachFrameOnce) {
   CameraFrameSource frames = street_drive(40);
+  const cv::Mat first_frame = frames.read(0);
+  const std::size_t frame_bytes = first_frame.total() * first_frame.elemSize();
   std::atomic<int> reads = 0;
   count_reads(frames, reads);
   CameraCalibrationOptions options = short_windows();
   options.method = CameraMethod::kMotion;
   options.motion_guide_frame_step = 4;
   options.detect_car_region = false;  // its own reads are counted below
-  calibrate_camera(frames, core::camera_preset("kitti"), options);
+  const CalibrationResult once = calibrate_camera(frames, core::camera_preset("kitti"), options);
   // Without the cache: the first look's 2 x 10, then 40 + 39 = 99; with it 20 + 40 = 60, and a few
-  // more when two threads miss the same frame at once. Evicting the lowest index instead of the
-  // oldest: 72.
+  // more when two threads miss the same frame at once (evicting the lowest index instead of the
+  // oldest: 72); with the first look's frames kept for the run, 40 and those few.
   EXPECT_GE(reads.load(), 40);
-  EXPECT_LE(reads.load(), 64);
+  EXPECT_LE(reads.load(), 44);
+  // Room for 5 of the first look's 20 frames: the run decodes the other 15 again (none kept: 60).
+  // Kept or decoded again, the frames are the same: so is the result.
+  reads = 0;
+  options.first_look_kept_bytes = 5 * frame_bytes;
+  const CalibrationResult again = calibrate_camera(frames, core::camera_preset("kitti"), options);
+  EXPECT_GE(reads.load(), 55);
+  EXPECT_LE(reads.load(), 59);
+  EXPECT_EQ(again.status, once.status);
+  EXPECT_EQ(again.roll, once.roll);
+  EXPECT_EQ(again.pitch, once.pitch);
+  EXPECT_EQ(again.yaw, once.yaw);
   // Looking for the car's body first decodes its samples once more.
   reads = 0;
+  options.first_look_kept_bytes = CameraCalibrationOptions{}.first_look_kept_bytes;
   options.detect_car_region = true;
   calibrate_camera(frames, core::camera_preset("kitti"), options);
   EXPECT_GE(reads.load(), 40 + options.car_region.sample_frames);
-  EXPECT_LE(reads.load(), 64 + options.car_region.sample_frames);
+  EXPECT_LE(reads.load(), 44 + options.car_region.sample_frames);
 }
 
 // A video decodes forward only and keeps its last few frames (video_frames.hpp): a frame asked for
