@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/core/eigen.hpp>
@@ -309,22 +308,10 @@ std::optional<Eigen::Matrix3d> searched_seed(RoadCorrelation& correlation,
   const int candidates =
       static_cast<int>(std::floor(std::log(options.max_seed_travel_over_height / first) / step)) +
       1;
-  // Every other candidate first, then the two beside the best of those: where the scores rise to
-  // one peak and fall (the road's texture seen at one travel), that peak and its neighbours are the
-  // whole grid's, for some 34 warps instead of 61 (the search is a seventh of the estimator's
-  // time).
-  std::vector<double> scores(static_cast<std::size_t>(candidates),
-                             -std::numeric_limits<double>::infinity());
-  const auto score = [&](int k) {
+  std::vector<double> scores(static_cast<std::size_t>(candidates));
+  for (int k = 0; k < candidates; ++k) {
     scores[static_cast<std::size_t>(k)] = correlation(pixel_homography(std::log(first) + k * step));
-  };
-  for (int k = 0; k < candidates; k += 2) score(k);
-  const auto best_coarse =
-      static_cast<int>(std::max_element(scores.begin(), scores.end()) - scores.begin());
-  if (best_coarse > 0) score(best_coarse - 1);
-  if (best_coarse + 1 < candidates) score(best_coarse + 1);
-  // Of equal scores the first, as over the whole grid; the best's neighbours are scored (even, or
-  // the coarse best).
+  }
   const auto best = std::max_element(scores.begin(), scores.end());
   if (*best <= 0.0) return std::nullopt;
   // The parabola through the best and its neighbours.
