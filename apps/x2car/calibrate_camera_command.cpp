@@ -119,8 +119,15 @@ void use_learned_estimator(const std::string& model_path, const core::CameraIntr
 }
 
 int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
+  // Every file named on the command line is an input; those found beside the images are checked
+  // once found (below).
   check_output_arguments(arguments.output,
-                         {{{"--input", arguments.input_path}, {"--ins", arguments.ins_path}}});
+                         {{{"--input", arguments.input_path},
+                           {"--ins", arguments.ins_path},
+                           {"--intrinsics", arguments.intrinsics_path},
+                           {"--mask", arguments.mask == kNoMask ? std::string() : arguments.mask},
+                           {"--model", arguments.model_path},
+                           {"--timestamps", arguments.timestamps_path}}});
   // Usage errors before any input is read (a missing --mask file is not the error to report).
   if (arguments.estimator == kLearnedEstimator) {
     if (!arguments.mask.empty() && arguments.mask != kNoMask) {
@@ -167,13 +174,22 @@ int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
                  folder.ignored_files);
     frames = camera::camera_frames_from(folder);
   }
-  // --intrinsics wins over the bag's CameraInfo.
-  const core::CameraIntrinsics intrinsics =
-      bag_intrinsics && arguments.intrinsics_path.empty()
-          ? *bag_intrinsics
-          : find_camera_intrinsics(
-                arguments.input_path,
-                {arguments.intrinsics_path, arguments.camera_index, arguments.unrectified});
+  // --intrinsics wins over the bag's CameraInfo. KITTI raw's camera X takes the _0X keys of
+  // calib_cam_to_cam.txt when no --camera-index says otherwise.
+  const IntrinsicsSource intrinsics_source{
+      arguments.intrinsics_path,
+      arguments.camera_index ? arguments.camera_index : folder.kitti_camera_index,
+      arguments.unrectified};
+  std::optional<core::CameraIntrinsics> intrinsics_read = bag_intrinsics;
+  if (!bag_intrinsics || !arguments.intrinsics_path.empty()) {
+    const fs::path intrinsics_file = find_intrinsics_file(arguments.input_path, intrinsics_source);
+    // The files found outside the input folder (a KITTI day's calib_cam_to_cam.txt, a data
+    // folder's ../timestamps.txt, a video's intrinsics beside it) are inputs too.
+    check_output_arguments(arguments.output, {{{"intrinsics", intrinsics_file.string()},
+                                               {"timestamps", folder.timestamps_file.string()}}});
+    intrinsics_read = read_camera_intrinsics(intrinsics_file, intrinsics_source);
+  }
+  const core::CameraIntrinsics intrinsics = *intrinsics_read;
   if (arguments.mask == kNoMask) {
     options.detect_car_region = false;
   } else if (!arguments.mask.empty()) {

@@ -19,7 +19,10 @@ namespace fs = std::filesystem;
 
 bool is_kitti_calib(const fs::path& path) { return path.extension() == ".txt"; }
 
-core::CameraIntrinsics read_intrinsics(const fs::path& path, const IntrinsicsSource& source) {
+}  // namespace
+
+core::CameraIntrinsics read_camera_intrinsics(const fs::path& path,
+                                              const IntrinsicsSource& source) {
   spdlog::info("intrinsics from {}", path.string());
   if (is_kitti_calib(path)) {
     return io::read_kitti_calib_cam(
@@ -29,11 +32,13 @@ core::CameraIntrinsics read_intrinsics(const fs::path& path, const IntrinsicsSou
   return io::read_camera_info_yaml(path);
 }
 
-}  // namespace
-
 core::CameraIntrinsics find_camera_intrinsics(const std::string& input_path,
                                               const IntrinsicsSource& source) {
-  if (!source.intrinsics_path.empty()) return read_intrinsics(source.intrinsics_path, source);
+  return read_camera_intrinsics(find_intrinsics_file(input_path, source), source);
+}
+
+fs::path find_intrinsics_file(const std::string& input_path, const IntrinsicsSource& source) {
+  if (!source.intrinsics_path.empty()) return source.intrinsics_path;
   const fs::path input = input_path;
   const fs::path named = input.filename().empty() ? input.parent_path() : input;
   // A video's intrinsics lie beside it.
@@ -43,7 +48,7 @@ core::CameraIntrinsics find_camera_intrinsics(const std::string& input_path,
         folder / "camera" / "calib_cam_to_cam.txt", folder / "calib_cam_to_cam.txt",
         named.parent_path() / "calib_cam_to_cam.txt"}) {
     std::error_code error;
-    if (fs::is_regular_file(candidate, error)) return read_intrinsics(candidate, source);
+    if (fs::is_regular_file(candidate, error)) return candidate;
   }
   throw InputError(input_path, 0, "intrinsics",
                    "no camera/intrinsics.yaml or calib_cam_to_cam.txt found; give --intrinsics");

@@ -2,6 +2,7 @@
 // user gave them or beside the images, and the car's motion at each frame from a GNSS/INS log.
 #pragma once
 
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,9 +18,18 @@ struct IntrinsicsSource {
   bool unrectified = false;         // KITTI's unrectified images: K_0X and D_0X
 };
 
-// --intrinsics, else the drive's camera/intrinsics.yaml, else a KITTI calib_cam_to_cam.txt in the
-// input folder or the folder above it (KITTI raw keeps it beside the drives of a day); a video's
-// beside the video. InputError naming the input when none is found.
+// The intrinsics file: --intrinsics, else the drive's camera/intrinsics.yaml, else a KITTI
+// calib_cam_to_cam.txt in the input folder or the folder above it (KITTI raw keeps it beside the
+// drives of a day); a video's beside the video. InputError naming the input when none is found.
+std::filesystem::path find_intrinsics_file(const std::string& input_path,
+                                           const IntrinsicsSource& source);
+
+// The intrinsics in `path` (a ROS camera_info or OpenCV YAML, or a KITTI calib_cam_to_cam.txt,
+// whose keys of camera source.camera_index, default 2, are read).
+core::CameraIntrinsics read_camera_intrinsics(const std::filesystem::path& path,
+                                              const IntrinsicsSource& source);
+
+// read_camera_intrinsics(find_intrinsics_file(...)).
 core::CameraIntrinsics find_camera_intrinsics(const std::string& input_path,
                                               const IntrinsicsSource& source);
 

@@ -21,6 +21,7 @@
 #include "x2car/camera/camera_test_support.hpp"
 #include "x2car/camera_net/vp_hl_network.hpp"
 #include "x2car/io/camera_info_yaml.hpp"
+#include "x2car/io/kitti_calib_cam.hpp"
 #include "x2car/io/result_json.hpp"
 #include "x2car/io/text_lines.hpp"
 
@@ -773,6 +774,73 @@ TEST(CalibrateCamera, RecoversTheMountingFromAVideoFile) {
                                   (folder / "motion.json").string());
   EXPECT_EQ(motion.exit_code, 1) << motion.output;
   EXPECT_THAT(io::read_text_file(folder / "motion.json"), HasSubstr("\"no_previous_frame\": 1"));
+}
+
+// A KITTI raw day: day/calib_cam_to_cam.txt beside day/drive/image_03/ (camera 3 the only one).
+// The files x2car finds there, outside the --input folder, are inputs as much as those it is
+// given, and camera 3's images take camera 3's keys.
+TEST(CalibrateCamera, NeverWritesOverTheFilesItReadsAndReadsTheCamerasOwnKeys) {
+  namespace fs = std::filesystem;
+  const auto folder = write_camera_drive("cli_calibrate_camera_kitti_day", 24);
+  const fs::path day = folder / "day";
+  const fs::path drive = day / "drive_0001_sync";
+  fs::create_directories(drive / "image_03");
+  fs::copy(folder / "camera" / "images", drive / "image_03" / "data");
+  fs::copy_file(folder / "camera" / "timestamps.txt", drive / "image_03" / "timestamps.txt");
+  core::CameraIntrinsics camera_3 = core::camera_preset("kitti");
+  core::CameraIntrinsics camera_2 = camera_3;
+  camera_2.fx *= 1.2;  // another camera's keys would turn the angles
+  camera_2.fy *= 1.2;
+  const fs::path calib = day / "calib_cam_to_cam.txt";
+  io::write_text_file(calib, io::format_kitti_calib_cam(camera_2, 2, "09-Jan-2012 13:57:47") +
+                                 io::format_kitti_calib_cam(camera_3, 3, "09-Jan-2012 13:57:47"));
+  const std::string calib_text = io::read_text_file(calib);
+  const auto timestamps = drive / "image_03" / "timestamps.txt";
+  const std::string timestamps_text = io::read_text_file(timestamps);
+  const auto expect_refused = [](const CliRun& run, const fs::path& input,
+                                 const std::string& text) {
+    EXPECT_EQ(run.exit_code, 2) << run.output;
+    EXPECT_THAT(run.output, HasSubstr("x2car never writes over the data it reads"));
+    EXPECT_EQ(io::read_text_file(input), text) << input;
+  };
+  // The day's calibration, found above the drive.
+  expect_refused(run_x2car("calibrate camera --input " + drive.string() +
+                           " --window-frames 12 --out " + calib.string()),
+                 calib, calib_text);
+  // The timestamps above the data folder.
+  expect_refused(run_x2car("calibrate camera --input " + (drive / "image_03" / "data").string() +
+                           " --intrinsics " + calib.string() + " --window-frames 12 --urdf " +
+                           timestamps.string()),
+                 timestamps, timestamps_text);
+  // Files given with --intrinsics and --mask.
+  const fs::path intrinsics = folder / "camera" / "intrinsics.yaml";
+  const std::string intrinsics_text = io::read_text_file(intrinsics);
+  expect_refused(run_x2car("calibrate camera --input " + drive.string() + " --intrinsics " +
+                           intrinsics.string() + " --window-frames 12 --yaml " +
+                           intrinsics.string()),
+                 intrinsics, intrinsics_text);
+  cv::imwrite((folder / "mask.png").string(), cv::Mat(375, 1242, CV_8U, cv::Scalar(255)));
+  const std::string mask_bytes = io::read_text_file(folder / "mask.png");
+  expect_refused(run_x2car("calibrate camera --input " + drive.string() + " --mask " +
+                           (folder / "mask.png").string() + " --window-frames 12 --out " +
+                           (folder / "mask.png").string()),
+                 folder / "mask.png", mask_bytes);
+
+  // Camera 3's keys: the true mounting (camera 2's focal length would tilt pitch and yaw).
+  const auto json = folder / "kitti_day.json";
+  const CliRun calibrate = run_x2car("calibrate camera --input " + drive.string() +
+                                     " --window-frames 12 --without-series --out " + json.string());
+  ASSERT_EQ(calibrate.exit_code, 0) << calibrate.output;
+  EXPECT_THAT(calibrate.output, HasSubstr("intrinsics from " + calib.string()));
+  const std::string result = io::read_text_file(json);
+  constexpr double kDegPerRad = 180.0 / M_PI;
+  EXPECT_NEAR(number_after(result, "", "\"pitch_deg\""), 0.05 * kDegPerRad, 0.1) << result;
+  EXPECT_NEAR(number_after(result, "", "\"yaw_deg\""), -0.03 * kDegPerRad, 0.1) << result;
+  // Asked for camera 2's keys for the folder of camera 3: refused, naming the folder.
+  const CliRun other = run_x2car("calibrate camera --input " + (drive / "image_03").string() +
+                                 " --camera-index 2 --intrinsics " + calib.string());
+  EXPECT_EQ(other.exit_code, 2) << other.output;
+  EXPECT_THAT(other.output, HasSubstr("holds KITTI camera 3's images (image_03), not camera 2's"));
 }
 
 TEST(CalibrateCamera, BadInputExitsWithTwoNamingTheFile) {

@@ -183,6 +183,8 @@ SensorEval eval_camera(const io::DriveSensor& sensor, const std::optional<fs::pa
   } else {
     folder = io::list_images(sensor.input);
     source = camera::camera_frames_from(folder);
+    // KITTI raw's camera X takes the _0X keys of calib_cam_to_cam.txt.
+    intrinsics_source.camera_index = folder.kitti_camera_index;
   }
   // A manifest's intrinsics win over the bag's CameraInfo, as --intrinsics does.
   const core::CameraIntrinsics intrinsics =

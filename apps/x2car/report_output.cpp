@@ -16,12 +16,14 @@ namespace x2car::cli {
 std::vector<camera::FrameView> camera_frame_views(const io::DriveSensor& sensor) {
   IntrinsicsSource source;
   if (sensor.intrinsics) source.intrinsics_path = sensor.intrinsics->string();
-  const core::CameraIntrinsics intrinsics = find_camera_intrinsics(sensor.input.string(), source);
   if (camera::is_video_file(sensor.input)) {
-    return camera::sample_frame_views(camera::camera_frames_from_video(sensor.input), intrinsics);
+    return camera::sample_frame_views(camera::camera_frames_from_video(sensor.input),
+                                      find_camera_intrinsics(sensor.input.string(), source));
   }
   const io::ImageFolder folder = io::list_images(sensor.input);
-  return camera::sample_frame_views(camera::camera_frames_from(folder), intrinsics);
+  source.camera_index = folder.kitti_camera_index;  // KITTI raw's camera X: the _0X keys
+  return camera::sample_frame_views(camera::camera_frames_from(folder),
+                                    find_camera_intrinsics(sensor.input.string(), source));
 }
 
 report::ReportSensor drive_report_sensor(const io::DriveSensor& sensor, CalibrationResult result,

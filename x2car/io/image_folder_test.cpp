@@ -79,6 +79,64 @@ TEST(ImageFolder, PicksTheKittiCameraAskedFor) {
   EXPECT_EQ(list_images(drive / "image_00/data/").images.size(), 1U);
 }
 
+TEST(ImageFolder, SaysWhichKittiCameraItsImagesAre) {
+  const fs::path drive = fresh_folder("kitti_index");
+  touch(drive / "image_03/data/0000000000.png");
+  write_text_file(drive / "image_03/timestamps.txt", "2011-09-26 13:02:25.5\n");
+  // The only camera of the drive is camera 3: its images take the _03 calibration keys.
+  EXPECT_EQ(list_images(drive).kitti_camera_index, 3);
+  // The camera folder itself, or its data/, with or without the index.
+  EXPECT_EQ(list_images(drive / "image_03").kitti_camera_index, 3);
+  EXPECT_EQ(list_images(drive / "image_03", 3).folder, drive / "image_03/data");
+  EXPECT_EQ(list_images(drive / "image_03/data/", 3).kitti_camera_index, 3);
+  EXPECT_EQ(list_images(drive / "image_03/data").timestamps_file, drive / "image_03/timestamps.txt");
+  // Camera 2's keys for camera 3's images: refused, naming the folder.
+  const InputError other = input_error_of([&] { list_images(drive / "image_03", 2); });
+  EXPECT_THAT(other.what(), HasSubstr("camera 3's images (image_03), not camera 2's"));
+  // A drive with cameras 0 and 1 only: which one is the user's to say.
+  const fs::path grey = fresh_folder("kitti_grey");
+  for (const char* camera : {"image_00", "image_01"}) {
+    touch(grey / camera / "data/0000000000.png");
+    write_text_file(grey / camera / "timestamps.txt", "2011-09-26 13:02:25.5\n");
+  }
+  const InputError several = input_error_of([&] { list_images(grey); });
+  EXPECT_THAT(several.what(), HasSubstr("several KITTI cameras (image_00, image_01)"));
+  EXPECT_THAT(input_error_of([&] { list_images(grey, 2); }).what(),
+              HasSubstr("has no image_02/ (KITTI raw camera 2); it holds image_00, image_01"));
+  EXPECT_EQ(list_images(grey, 1).kitti_camera_index, 1);
+  // A plain folder of images is no KITTI camera; an index then only picks calibration keys.
+  const fs::path plain = fresh_folder("plain_index");
+  touch(plain / "a.png");
+  write_text_file(plain / "timestamps.txt", "1.0\n");
+  EXPECT_EQ(list_images(plain).kitti_camera_index, std::nullopt);
+  EXPECT_EQ(list_images(plain, 3).images.size(), 1U);
+  EXPECT_EQ(list_images(plain, 3).kitti_camera_index, std::nullopt);
+}
+
+TEST(ImageFolder, OrdersNumberedNamesByTheirNumbers) {
+  const fs::path folder = fresh_folder("unpadded");
+  for (const char* name : {"frame_10.png", "frame_9.png", "frame_1.png", "frame_2.png"}) {
+    touch(folder / name);
+  }
+  write_text_file(folder / "timestamps.txt", "1.0\n2.0\n3.0\n4.0\n");
+  const ImageFolder images = list_images(folder);
+  ASSERT_EQ(images.images.size(), 4U);
+  std::vector<std::string> names;
+  for (const ImageFile& image : images.images) names.push_back(image.path.filename().string());
+  EXPECT_THAT(names, ElementsAre("frame_1.png", "frame_2.png", "frame_9.png", "frame_10.png"));
+  EXPECT_EQ(images.timestamps_file, folder / "timestamps.txt");
+}
+
+TEST(ImageFolder, IgnoresHiddenFiles) {
+  const fs::path folder = fresh_folder("hidden");
+  touch(folder / "0000000000.png");
+  touch(folder / "._0000000000.png");  // macOS's companion of a copied file
+  write_text_file(folder / "timestamps.txt", "1.0\n");
+  const ImageFolder images = list_images(folder);
+  EXPECT_EQ(images.images.size(), 1U);
+  EXPECT_EQ(images.ignored_files, 2U);  // the companion and timestamps.txt
+}
+
 TEST(ImageFolder, TakesTimesFromNamesWithoutATimestampsFile) {
   const fs::path folder = fresh_folder("names");
   touch(folder / "10.250000.png");
