@@ -241,7 +241,8 @@ RunCommand setup_calibrate_camera_command(CLI::App& command) {
       ->check(positive_number());
   command
       .add_option("--intrinsics", arguments->intrinsics_path,
-                  "ROS camera_info or OpenCV calibration YAML, or a KITTI calib_cam_to_cam.txt "
+                  "ROS camera_info or OpenCV calibration YAML or XML, or a KITTI "
+                  "calib_cam_to_cam.txt "
                   "(default: camera/intrinsics.yaml or calib_cam_to_cam.txt beside the images)")
       ->type_name("FILE");
   command

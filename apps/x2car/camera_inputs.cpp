@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "x2car/camera/ins_motion.hpp"
+#include "x2car/camera/opencv_intrinsics_xml.hpp"
 #include "x2car/camera/video_frames.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/io/camera_info_yaml.hpp"
@@ -29,6 +30,7 @@ core::CameraIntrinsics read_camera_intrinsics(const fs::path& path,
         path, source.camera_index.value_or(2),
         source.unrectified ? io::KittiImages::kUnrectified : io::KittiImages::kRectified);
   }
+  if (camera::is_xml_file(path)) return camera::read_opencv_intrinsics_xml(path);
   return io::read_camera_info_yaml(path);
 }
 

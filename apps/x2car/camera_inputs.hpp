@@ -24,8 +24,8 @@ struct IntrinsicsSource {
 std::filesystem::path find_intrinsics_file(const std::string& input_path,
                                            const IntrinsicsSource& source);
 
-// The intrinsics in `path` (a ROS camera_info or OpenCV YAML, or a KITTI calib_cam_to_cam.txt,
-// whose keys of camera source.camera_index, default 2, are read).
+// The intrinsics in `path` (a ROS camera_info or OpenCV YAML, an OpenCV FileStorage .xml, or a
+// KITTI calib_cam_to_cam.txt, whose keys of camera source.camera_index, default 2, are read).
 core::CameraIntrinsics read_camera_intrinsics(const std::filesystem::path& path,
                                               const IntrinsicsSource& source);
 

@@ -815,10 +815,10 @@ TEST(CalibrateCamera, NeverWritesOverTheFilesItReadsAndReadsTheCamerasOwnKeys) {
   // Files given with --intrinsics and --mask.
   const fs::path intrinsics = folder / "camera" / "intrinsics.yaml";
   const std::string intrinsics_text = io::read_text_file(intrinsics);
-  expect_refused(run_x2car("calibrate camera --input " + drive.string() + " --intrinsics " +
-                           intrinsics.string() + " --window-frames 12 --yaml " +
-                           intrinsics.string()),
-                 intrinsics, intrinsics_text);
+  expect_refused(
+      run_x2car("calibrate camera --input " + drive.string() + " --intrinsics " +
+                intrinsics.string() + " --window-frames 12 --yaml " + intrinsics.string()),
+      intrinsics, intrinsics_text);
   cv::imwrite((folder / "mask.png").string(), cv::Mat(375, 1242, CV_8U, cv::Scalar(255)));
   const std::string mask_bytes = io::read_text_file(folder / "mask.png");
   expect_refused(run_x2car("calibrate camera --input " + drive.string() + " --mask " +

@@ -32,10 +32,10 @@ struct ImageFile {
 };
 
 struct ImageFolder {
-  std::filesystem::path folder;   // where the image files were found
-  std::vector<ImageFile> images;  // strictly increasing time
-  std::size_t ignored_files = 0;  // files that are not images
-  std::string time_source;        // "file names" or the timestamps file's path, for reports
+  std::filesystem::path folder;           // where the image files were found
+  std::vector<ImageFile> images;          // strictly increasing time
+  std::size_t ignored_files = 0;          // files that are not images
+  std::string time_source;                // "file names" or the timestamps file's path, for reports
   std::filesystem::path timestamps_file;  // the timestamps file read; empty: times from the names
   // X when the images are KITTI raw's camera X (image_0X/data/, found in a drive folder or given
   // itself): which keys of calib_cam_to_cam.txt are theirs. Absent: not a KITTI camera folder.

@@ -89,7 +89,8 @@ TEST(ImageFolder, SaysWhichKittiCameraItsImagesAre) {
   EXPECT_EQ(list_images(drive / "image_03").kitti_camera_index, 3);
   EXPECT_EQ(list_images(drive / "image_03", 3).folder, drive / "image_03/data");
   EXPECT_EQ(list_images(drive / "image_03/data/", 3).kitti_camera_index, 3);
-  EXPECT_EQ(list_images(drive / "image_03/data").timestamps_file, drive / "image_03/timestamps.txt");
+  EXPECT_EQ(list_images(drive / "image_03/data").timestamps_file,
+            drive / "image_03/timestamps.txt");
   // Camera 2's keys for camera 3's images: refused, naming the folder.
   const InputError other = input_error_of([&] { list_images(drive / "image_03", 2); });
   EXPECT_THAT(other.what(), HasSubstr("camera 3's images (image_03), not camera 2's"));
