@@ -51,8 +51,9 @@ class XmlIntrinsicsReader {
       values.release();
     }
     if (values.empty() || values.channels() != 1) {
-      throw InputError(source_, 0, key,
-                       "expected an opencv-matrix (type_id=\"opencv-matrix\": rows, cols, dt, data)");
+      throw InputError(
+          source_, 0, key,
+          "expected an opencv-matrix (type_id=\"opencv-matrix\": rows, cols, dt, data)");
     }
     if ((expected_rows >= 0 && values.rows != expected_rows) ||
         (expected_cols >= 0 && values.cols != expected_cols)) {
@@ -80,7 +81,6 @@ class XmlIntrinsicsReader {
       throw InputError(source_, 0, "distortion_model", error.what());
     }
   }
-
 
  private:
   const cv::FileStorage& storage_;

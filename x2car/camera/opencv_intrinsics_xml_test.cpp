@@ -27,7 +27,8 @@ fs::path write_with_opencv(const std::string& name, const cv::Mat& camera_matrix
                            const cv::Mat& distortion, const std::string& model = {}) {
   const fs::path path = temp_file(name);
   cv::FileStorage storage(path.string(), cv::FileStorage::WRITE);
-  storage << "calibration_time" << "Sat Nov 28 2026";
+  storage << "calibration_time"
+          << "Sat Nov 28 2026";
   storage << "image_width" << 1242 << "image_height" << 375;
   storage << "camera_matrix" << camera_matrix << "distortion_coefficients" << distortion;
   if (!model.empty()) storage << "distortion_model" << model;
@@ -85,8 +86,7 @@ TEST(OpenCvIntrinsicsXml, RejectsWhatDoesNotFitNamingTheField) {
   io::write_text_file(words,
                       "<?xml version=\"1.0\"?>\n<opencv_storage>\n<image_width>wide</image_width>\n"
                       "</opencv_storage>\n");
-  expect_input_error([&] { read_opencv_intrinsics_xml(words); }, words.string(), 0,
-                     "image_width");
+  expect_input_error([&] { read_opencv_intrinsics_xml(words); }, words.string(), 0, "image_width");
   const fs::path broken = temp_file("broken.xml");
   io::write_text_file(broken, "<?xml version=\"1.0\"?>\n<opencv_storage>\n<image_width>1242\n");
   const InputError error = input_error_of([&] { read_opencv_intrinsics_xml(broken); });

@@ -136,6 +136,10 @@ TEST(CameraInfoYaml, BadFilesNameTheFileLineAndField) {
     EXPECT_THAT(error.what(), HasSubstr("cx"));  // the principal point leaves the image
   }
   expect_error("- 1\n- 2\n", 0, "");
+  // A key given twice: yaml-cpp would answer with the first and ignore the second.
+  expect_error(with("camera_name: camera", "camera_name: camera\nimage_width: 1280"), 6,
+               "image_width");
+  expect_error(with("  cols: 5", "  cols: 5\n  cols: 5"), 14, "distortion_coefficients.cols");
 }
 
 }  // namespace

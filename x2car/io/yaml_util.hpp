@@ -16,7 +16,8 @@ namespace x2car::io {
 std::size_t yaml_line(const YAML::Mark& mark);
 std::size_t yaml_line(const YAML::Node& node);
 
-// Parses `text`; a YAML::Exception becomes InputError(source, its line, "invalid YAML: <why>").
+// Parses `text`; a YAML::Exception becomes InputError(source, its line, "invalid YAML: <why>"), and
+// a key given twice in any mapping InputError(source, its second line, the key, "key given twice").
 // An empty text gives a null node.
 YAML::Node load_yaml(std::string_view text, const std::string& source);
 
