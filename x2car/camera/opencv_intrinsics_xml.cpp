@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -119,6 +120,10 @@ CameraIntrinsics read_opencv_intrinsics_xml(const std::filesystem::path& path) {
   c.cx = k[2];
   c.fy = k[4];
   c.cy = k[5];
+  if (const std::optional<core::PinholeProblem> problem = core::pinhole_problem(c)) {
+    throw InputError(source, 0, fmt::format("camera_matrix.data[{}]", problem->matrix_index()),
+                     problem->why);
+  }
   const DistortionModel model = reader.model();
   std::vector<double> coefficients = reader.matrix("distortion_coefficients", -1, -1);
   try {

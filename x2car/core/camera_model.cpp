@@ -180,15 +180,45 @@ Eigen::Matrix3d CameraIntrinsics::camera_matrix() const {
   return k;
 }
 
+std::optional<PinholeProblem> pinhole_problem(const CameraIntrinsics& c) {
+  using Parameter = PinholeProblem::Parameter;
+  const auto focal = [](Parameter parameter, const char* name, double f, int size,
+                        const char* side) -> std::optional<PinholeProblem> {
+    if (!std::isfinite(f) || f <= 0.0) {
+      return PinholeProblem{parameter,
+                            fmt::format("the focal length {} must be positive, found {}", name, f)};
+    }
+    if (f < kMinFocalOverSize * size || f > kMaxFocalOverSize * size) {
+      return PinholeProblem{
+          parameter, fmt::format("the focal length {} = {} px is no camera's for an image {} px {} "
+                                 "(expected {} to {} times that: pixels and metres mixed up?)",
+                                 name, f, size, side, kMinFocalOverSize, kMaxFocalOverSize)};
+    }
+    return std::nullopt;
+  };
+  // A principal point outside the image is a unit or axis mix-up, not a real camera.
+  const auto centre = [](Parameter parameter, const char* name, double value,
+                         int size) -> std::optional<PinholeProblem> {
+    if (!std::isfinite(value) || value < 0.0 || value > size) {
+      return PinholeProblem{
+          parameter, fmt::format("the principal point's {} = {} lies outside the image (0 to {})",
+                                 name, value, size)};
+    }
+    return std::nullopt;
+  };
+  if (auto problem = focal(PinholeProblem::kFx, "fx", c.fx, c.width, "wide")) return problem;
+  if (auto problem = focal(PinholeProblem::kFy, "fy", c.fy, c.height, "high")) return problem;
+  if (auto problem = centre(PinholeProblem::kCx, "cx", c.cx, c.width)) return problem;
+  return centre(PinholeProblem::kCy, "cy", c.cy, c.height);
+}
+
 void CameraIntrinsics::Check() const {
   const OptionsCheck check("CameraIntrinsics");
   check.at_least("width", width, 1);
   check.at_least("height", height, 1);
-  check.positive("fx", fx);
-  check.positive("fy", fy);
-  // A principal point outside the image is a unit or axis mix-up, not a real camera.
-  check.in_range("cx", cx, 0.0, width);
-  check.in_range("cy", cy, 0.0, height);
+  if (const std::optional<PinholeProblem> problem = pinhole_problem(*this)) {
+    reject_argument("CameraIntrinsics: {}", problem->why);
+  }
   const std::size_t expected = distortion_coefficient_count(distortion_model);
   check.that(distortion_coefficients.size() == expected, "distortion_coefficients",
              fmt::format("must hold the {} coefficients of the {} model", expected,

@@ -45,8 +45,8 @@ std::size_t distortion_coefficient_count(DistortionModel model);
 struct CameraIntrinsics {
   int width = 1242;      // [pixels], > 0
   int height = 375;      // [pixels], > 0
-  double fx = 721.5377;  // [pixels], > 0
-  double fy = 721.5377;  // [pixels], > 0
+  double fx = 721.5377;  // [pixels], 0.05-1000 x width (pinhole_problem)
+  double fy = 721.5377;  // [pixels], 0.05-1000 x height
   double cx = 609.5593;  // [pixels], inside [0, width]
   double cy = 172.854;   // [pixels], inside [0, height]
   DistortionModel distortion_model = DistortionModel::kNone;
@@ -60,6 +60,35 @@ struct CameraIntrinsics {
 
   bool operator==(const CameraIntrinsics&) const = default;
 };
+
+// What is wrong with a camera's fx, fy, cx, cy for its image size, for readers to name the field
+// that holds it (CameraIntrinsics::Check's rules for these four).
+struct PinholeProblem {
+  enum Parameter { kFx, kFy, kCx, kCy } parameter = kFx;
+  std::string why;  // "the focal length fx must be positive, found -721.5"
+
+  // Where the parameter sits in a row-major 3 x `cols` camera matrix (3: K, 4: a projection P).
+  int matrix_index(int cols = 3) const {
+    switch (parameter) {
+      case kFx:
+        return 0;
+      case kFy:
+        return cols + 1;
+      case kCx:
+        return 2;
+      case kCy:
+        return cols + 2;
+    }
+    return 0;
+  }
+};
+// None when width and height are positive and the four are a camera's: focal lengths between
+// kMinFocalOverSize and kMaxFocalOverSize times the image's width (fx) or height (fy) (a field of
+// view between ~0.06 and ~170 deg: anything else is a unit mix-up), the principal point inside the
+// image.
+inline constexpr double kMinFocalOverSize = 0.05;
+inline constexpr double kMaxFocalOverSize = 1000.0;
+std::optional<PinholeProblem> pinhole_problem(const CameraIntrinsics& intrinsics);
 
 // Named cameras (issue 13):
 // - "kitti": KITTI raw image_02 after rectification (calib_cam_to_cam.txt P_rect_02): 1242x375,

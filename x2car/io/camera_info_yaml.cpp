@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <vector>
@@ -116,6 +117,11 @@ class Reader {
     c.cx = k[2];
     c.fy = k[4];
     c.cy = k[5];
+    if (const std::optional<core::PinholeProblem> problem = core::pinhole_problem(c)) {
+      throw InputError(source_, line,
+                       fmt::format("camera_matrix.data[{}]", problem->matrix_index()),
+                       problem->why);
+    }
   }
 
   DistortionModel model(const YAML::Node& node) const {

@@ -136,6 +136,11 @@ TEST(CameraInfoYaml, BadFilesNameTheFileLineAndField) {
     EXPECT_THAT(error.what(), HasSubstr("cx"));  // the principal point leaves the image
   }
   expect_error("- 1\n- 2\n", 0, "");
+  // Intrinsics that are no camera's name the element of the camera matrix that holds them.
+  expect_error(with("[333.3333333333333, 0,", "[-333.3333333333333, 0,"), 9,
+               "camera_matrix.data[0]");
+  expect_error(with("1200, 539.5", "1e300, 539.5"), 9, "camera_matrix.data[4]");
+  expect_error(with("1200, 539.5", "1200, 1539.5"), 9, "camera_matrix.data[5]");
   // A key given twice: yaml-cpp would answer with the first and ignore the second.
   expect_error(with("camera_name: camera", "camera_name: camera\nimage_width: 1280"), 6,
                "image_width");

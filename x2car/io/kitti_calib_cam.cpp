@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -117,6 +118,11 @@ class Entries {
     c.cx = at(0, 2);
     c.fy = at(1, 1);
     c.cy = at(1, 2);
+    if (const std::optional<core::PinholeProblem> problem = core::pinhole_problem(c)) {
+      throw InputError(source_, line,
+                       fmt::format("{}{}[{}]", name, suffix_, problem->matrix_index(cols)),
+                       problem->why);
+    }
   }
 
   const std::string& source() const { return source_; }

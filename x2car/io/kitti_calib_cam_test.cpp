@@ -105,6 +105,12 @@ TEST(KittiCalibCam, BadFilesNameTheFileLineAndKey) {
                KittiImages::kUnrectified, 7, "D_02[1]");
   expect_error(with("P_rect_02: 7.215377e+02", "P_rect_02: inf"), KittiImages::kRectified, 12,
                "P_rect_02[0]");
+  // A focal length no camera has names the element of the matrix that holds it.
+  expect_error(with("P_rect_02: 7.215377e+02", "P_rect_02: -7.215377e+02"), KittiImages::kRectified,
+               12, "P_rect_02[0]");
+  expect_error(with("K_02: 9.597910e+02 0.000000e+00 6.960217e+02 0.000000e+00 9.569251e+02",
+                    "K_02: 9.597910e+02 0.000000e+00 6.960217e+02 0.000000e+00 1e300"),
+               KittiImages::kUnrectified, 6, "K_02[4]");
   expect_error(with("S_rect_02: 1.242000e+03 3.750000e+02\n", ""), KittiImages::kRectified, 0,
                "S_rect_02");
   // Appended in place: GCC 12's -Warray-bounds misfires on std::string's operator+ here.
