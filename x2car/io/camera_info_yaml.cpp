@@ -175,7 +175,9 @@ CameraIntrinsics read_ros(const Reader& reader) {
   c.width = reader.image_size("image_width");
   c.height = reader.image_size("image_height");
   reader.camera_matrix(c);
-  reader.distortion(c, reader.model(reader.required("distortion_model")));
+  // Older ROS files have no distortion_model; camera_calibration_parsers then assumes plumb_bob.
+  const YAML::Node model = reader.root()["distortion_model"];
+  reader.distortion(c, model.IsDefined() ? reader.model(model) : DistortionModel::kPlumbBob);
   if (reader.root()["rectification_matrix"].IsDefined())
     reader.matrix("rectification_matrix", 3, 3);
   if (reader.root()["projection_matrix"].IsDefined()) reader.matrix("projection_matrix", 3, 4);

@@ -72,6 +72,27 @@ TEST(CameraInfoYaml, ReadsARosDriversFile) {
   EXPECT_EQ(c.distortion_coefficients, (std::vector<double>{-0.25, 0.07, 0.001, -0.0005, 0.0}));
 }
 
+TEST(CameraInfoYaml, ReadsAnOlderRosFileWithoutDistortionModelAsPlumbBob) {
+  // Older ROS files lack distortion_model; camera_calibration_parsers assumes plumb_bob.
+  const std::string text =
+      "image_width: 800\nimage_height: 600\ncamera_name: 00b09d0100990bb6\ncamera_matrix:\n"
+      "  rows: 3\n  cols: 3\n  data: [538.63, 0, 457.698, 0, 539.723, 297.003, 0, 0, 1]\n"
+      "distortion_coefficients:\n  rows: 1\n  cols: 5\n"
+      "  data: [-0.30678, 0.0825017, 0.0028784, -0.00015829, 0]\n";
+  const CameraIntrinsics c = parse_camera_info_yaml(text, kFile);
+  EXPECT_EQ(c.width, 800);
+  EXPECT_EQ(c.fx, 538.63);
+  EXPECT_EQ(c.distortion_model, DistortionModel::kPlumbBob);
+  EXPECT_EQ(c.distortion_coefficients,
+            (std::vector<double>{-0.30678, 0.0825017, 0.0028784, -0.00015829, 0.0}));
+  // Four coefficients of an equidistant lens without its model are five plumb_bob ones short.
+  std::string four = text;
+  four.replace(four.find("cols: 5"), 7, "cols: 4");
+  four.replace(four.find(", 0]\n", four.find("-0.30678")), 5, "]\n");
+  const CameraIntrinsics four_read = parse_camera_info_yaml(four, kFile);
+  EXPECT_EQ(four_read.distortion_model, DistortionModel::kPlumbBob);  // k3 = 0, as ROS reads it
+}
+
 TEST(CameraInfoYaml, ReadsOpenCvFileStorageCalibration) {
   // As OpenCV's calibration sample writes it.
   const std::string text =
