@@ -50,6 +50,22 @@ void collect_option_names(const CLI::App& app, std::set<std::string>& names) {
   }
 }
 
+// A file or folder given as "" (`--out=`, an unset shell variable) is a mistake, not "none":
+// refuse it at parse time for every option that takes a path.
+void refuse_empty_paths(CLI::App& app) {
+  const std::set<std::string> kPathTypes{"FILE", "DIR", "PATH", "BAG"};
+  for (CLI::Option* option : app.get_options()) {
+    if (kPathTypes.count(option->get_type_name()) == 0) continue;
+    option->check(CLI::Validator(
+        [](const std::string& value) {
+          return value.empty() ? std::string("an empty path; give a file or folder name")
+                               : std::string();
+        },
+        "", "non-empty path"));
+  }
+  for (CLI::App* subcommand : app.get_subcommands({})) refuse_empty_paths(*subcommand);
+}
+
 std::size_t edit_distance(const std::string& a, const std::string& b) {
   std::vector<std::size_t> row(b.size() + 1);
   for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
@@ -141,6 +157,7 @@ int run_cli(int argc, char** argv) {
     CLI::App* command = app.add_subcommand(subcommand.name, subcommand.summary);
     runners[command] = subcommand.setup(*command);
   }
+  refuse_empty_paths(app);
 
   try {
     app.parse(argc, argv);

@@ -3,6 +3,9 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 
@@ -27,6 +30,19 @@ bool is_within(const fs::path& inner, const fs::path& outer) {
     if (inner_part == inner.end() || *inner_part != *outer_part) return false;
   }
   return true;
+}
+
+// Empty when a file can be created in `folder`, else the system's reason. access() alone says
+// yes to root on folders no one can write (/proc, a read-only mount seen through a bind), so a
+// hidden probe file is created and removed.
+std::string why_not_writable(const fs::path& folder) {
+  if (access(folder.c_str(), W_OK) != 0) return std::strerror(errno);
+  std::string probe = (folder / ".x2car-write-check-XXXXXX").string();
+  const int descriptor = mkstemp(probe.data());
+  if (descriptor < 0) return std::strerror(errno);
+  close(descriptor);
+  unlink(probe.c_str());
+  return {};
 }
 
 void check_not_an_input(const NamedPath& output, const fs::path& output_path,
@@ -69,9 +85,13 @@ void check_output_files(std::span<const NamedPath> outputs, std::span<const Name
       throw std::invalid_argument(fmt::format("{} {}: the folder {} does not exist", output.option,
                                               output.path, folder.string()));
     }
-    if (access(folder.c_str(), W_OK) != 0) {
-      throw std::invalid_argument(fmt::format("{} {}: the folder {} is not writable", output.option,
-                                              output.path, folder.string()));
+    if (const std::string why = why_not_writable(folder); !why.empty()) {
+      throw std::invalid_argument(fmt::format("{} {}: the folder {} is not writable ({})",
+                                              output.option, output.path, folder.string(), why));
+    }
+    if (fs::exists(path, error) && access(path.c_str(), W_OK) != 0) {
+      throw std::invalid_argument(fmt::format("{} {}: the file is not writable ({})", output.option,
+                                              output.path, std::strerror(errno)));
     }
     check_not_an_input(output, path, inputs);
     for (std::size_t j = 0; j < i; ++j) {
