@@ -106,9 +106,16 @@ ImageFolder list_with_times(const fs::path& images_folder,
   if (timestamps) {
     const std::vector<double> times = read_timestamps_file(*timestamps);
     if (times.size() != files.size()) {
+      // Name where the two lists part, so that a stray or missing file is found at once.
+      const std::string where =
+          times.size() < files.size()
+              ? fmt::format("the first image without a time is {} (image {} in name order)",
+                            files[times.size()].filename().string(), times.size() + 1)
+              : fmt::format("timestamps {} on have no image (the last image is {})",
+                            files.size() + 1, files.back().filename().string());
       throw InputError(timestamps->string(),
-                       fmt::format("holds {} timestamps but {} has {} images", times.size(),
-                                   images_folder.string(), files.size()));
+                       fmt::format("holds {} timestamps but {} has {} images: {}", times.size(),
+                                   images_folder.string(), files.size(), where));
     }
     for (std::size_t i = 0; i < files.size(); ++i) result.images.push_back({files[i], times[i]});
     result.time_source = timestamps->string();

@@ -168,7 +168,17 @@ TEST(ImageFolder, RejectsMissingOrBrokenTimes) {
   write_text_file(folder / "timestamps.txt", "1.0\n");
   const InputError count = input_error_of([&] { list_images(folder); });
   EXPECT_THAT(count.what(), HasSubstr("holds 1 timestamps but"));
+  // Which file has no time, or which times have no file, is named.
+  EXPECT_THAT(count.what(), HasSubstr("the first image without a time is 0000000001.png (image 2"));
+  write_text_file(folder / "timestamps.txt", "1.0\n1.1\n1.2\n");
+  EXPECT_THAT(input_error_of([&] { list_images(folder); }).what(),
+              HasSubstr("timestamps 3 on have no image (the last image is 0000000001.png)"));
   write_text_file(folder / "timestamps.txt", "1.0\nyesterday\n");
+  expect_input_error([&] { list_images(folder); }, (folder / "timestamps.txt").string(), 2,
+                     "timestamp");
+  write_text_file(folder / "timestamps.txt", "2011-09-26 13:02:25.5\n2011-09-26 13:02:60.5\n");
+  EXPECT_THAT(input_error_of([&] { list_images(folder); }).what(),
+              HasSubstr("not a UTC date-time 'YYYY-MM-DD HH:MM:SS.fffffffff'"));
   expect_input_error([&] { list_images(folder); }, (folder / "timestamps.txt").string(), 2,
                      "timestamp");
   write_text_file(folder / "timestamps.txt", "2.0\n1.0\n");

@@ -21,6 +21,13 @@ std::vector<double> read_timestamps_file(const std::filesystem::path& path) {
     const std::string_view field = trim(line.text);
     if (const std::optional<std::int64_t> ns = parse_utc_time(field)) {
       times.push_back(seconds_between(*ns, 0));
+    } else if (field.find(':') != std::string_view::npos) {
+      // A date-time that does not parse: say so, not "not a number".
+      throw InputError(path.string(), line.number, "timestamp",
+                       fmt::format("not a UTC date-time 'YYYY-MM-DD HH:MM:SS.fffffffff' (month "
+                                   "1-12, a day of that month, hour 0-23, minute and second "
+                                   "0-59): '{}'",
+                                   field));
     } else {
       times.push_back(parse_double(field, {path.string(), line.number, "timestamp"}));
     }
