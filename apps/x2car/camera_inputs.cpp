@@ -64,12 +64,27 @@ std::vector<std::optional<camera::VehicleMotion>> camera_motion_from_log(
   camera::InsMotionOptions options;
   const bool unix_frames = !frames.times.empty() && frames.times.front() > 1e8;
   if (unix_frames && log.start_unix_time) options.ins_to_frame_offset_s = *log.start_unix_time;
+  if (!unix_frames && log.start_unix_time) {
+    // Nothing ties a video's frame count (or relative times) to the log's clock: say what is
+    // assumed, since a log started earlier than the video shifts every frame's motion.
+    spdlog::warn(
+        "{}: the frames' times are relative (they start near 0 s) but the log's are UTC; its "
+        "first record is taken as the first frame's time. If the camera started at another "
+        "moment, give --timestamps with the frames' UTC times",
+        path);
+  }
   std::vector<std::optional<camera::VehicleMotion>> motion =
       camera::motion_from_ins(frames.times, log.records, options);
   const auto covered = std::ranges::count_if(motion, [](const auto& m) { return m.has_value(); });
   spdlog::info("motion from {}: {} of {} frames covered", path, covered, motion.size());
   if (covered == 0) {
     throw InputError(path, 0, "time", "the log covers none of the frames' times (another clock?)");
+  }
+  if (static_cast<std::size_t>(covered) < motion.size()) {
+    spdlog::warn(
+        "{}: the log covers only {} of the {} frames; the others are gated and calibrated "
+        "without the car's motion",
+        path, covered, motion.size());
   }
   return motion;
 }

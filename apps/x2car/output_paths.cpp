@@ -45,12 +45,18 @@ std::string why_not_writable(const fs::path& folder) {
   return {};
 }
 
+// Two names of one file: a hard link has its own path, so only the file system can tell.
+bool same_file(const fs::path& a, const fs::path& b) {
+  std::error_code error;
+  return fs::exists(a, error) && fs::exists(b, error) && fs::equivalent(a, b, error) && !error;
+}
+
 void check_not_an_input(const NamedPath& output, const fs::path& output_path,
                         std::span<const NamedPath> inputs) {
   for (const NamedPath& input : inputs) {
     if (input.path.empty()) continue;
     const fs::path input_path = resolved(input.path);
-    if (output_path == input_path) {
+    if (output_path == input_path || same_file(output_path, input_path)) {
       throw std::invalid_argument(fmt::format(
           "{} {} is also the {} file: x2car never writes over the data it reads; choose "
           "another file",

@@ -4,12 +4,14 @@
 
 #include <cmath>
 #include <deque>
+#include <filesystem>
 #include <memory>
 #include <mutex>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 #include <string>
+#include <system_error>
 #include <utility>
 
 #include "x2car/camera/grey_image.hpp"
@@ -35,9 +37,15 @@ bool is_video_file(const std::filesystem::path& path) {
 namespace {
 
 cv::VideoCapture open_video(const std::filesystem::path& path) {
+  std::error_code error_code;
+  if (!std::filesystem::is_regular_file(path, error_code)) {
+    throw InputError(path.string(), "does not exist or is not a file");
+  }
   cv::VideoCapture capture;
   try {
-    capture.open(path.string(), cv::CAP_ANY);
+    // The absolute path: FFmpeg reads a relative name with a colon ("2024-05-01T10:00:00.mp4")
+    // as a URL whose scheme is the part before it.
+    capture.open(std::filesystem::absolute(path, error_code).string(), cv::CAP_ANY);
   } catch (const cv::Exception& error) {
     throw InputError(path.string(), std::string("cannot be opened as a video: ") + error.what());
   }

@@ -110,6 +110,21 @@ TEST(VideoFrames, TimestampsFileAndFrameRate) {
   EXPECT_THROW(camera_frames_from_video(video, rate), std::invalid_argument);
 }
 
+TEST(VideoFrames, OpensARelativeNameWithAColon) {
+  // FFmpeg took "2024-05-01T10:00:00.avi" for a URL whose scheme is "2024-05-01T10".
+  const fs::path video = write_street_video(temp_path("2024-05-01T10:00:00.avi"), 3);
+  const fs::path before = fs::current_path();
+  fs::current_path(video.parent_path());
+  std::size_t count = 0;
+  try {
+    count = camera_frames_from_video(video.filename()).times.size();
+  } catch (const InputError& error) {
+    ADD_FAILURE() << error.what();
+  }
+  fs::current_path(before);
+  EXPECT_EQ(count, 3U);
+}
+
 TEST(VideoFrames, MissingOrBrokenFilesNameTheFile) {
   const fs::path missing = temp_path("missing.mp4");
   const fs::path text = temp_path("not_a_video.avi");
@@ -120,6 +135,9 @@ TEST(VideoFrames, MissingOrBrokenFilesNameTheFile) {
       FAIL() << path;
     } catch (const InputError& error) {
       EXPECT_NE(std::string(error.what()).find(path.filename().string()), std::string::npos);
+      if (path == missing) {  // said plainly, not "cannot be opened as a video"
+        EXPECT_NE(std::string(error.what()).find("does not exist"), std::string::npos);
+      }
     }
   }
   EXPECT_TRUE(is_video_file("a/b.MP4"));

@@ -181,6 +181,12 @@ TEST(ImageFolder, RejectsMissingOrBrokenTimes) {
               HasSubstr("not a UTC date-time 'YYYY-MM-DD HH:MM:SS.fffffffff'"));
   expect_input_error([&] { list_images(folder); }, (folder / "timestamps.txt").string(), 2,
                      "timestamp");
+  // Nanoseconds where seconds belong: refused, naming the line, not read as a 60-year gap.
+  write_text_file(folder / "timestamps.txt", "1.0\n1780308000100000000\n");
+  EXPECT_THAT(input_error_of([&] { list_images(folder); }).what(),
+              HasSubstr("milliseconds or nanoseconds?"));
+  expect_input_error([&] { list_images(folder); }, (folder / "timestamps.txt").string(), 2,
+                     "timestamp");
   write_text_file(folder / "timestamps.txt", "2.0\n1.0\n");
   expect_input_error([&] { list_images(folder); }, (folder / "timestamps.txt").string(), 2,
                      "timestamp");

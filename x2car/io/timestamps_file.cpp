@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -12,6 +13,11 @@
 #include "x2car/io/text_lines.hpp"
 
 namespace x2car::io {
+namespace {
+
+constexpr double kMaxTimestampSeconds = 1e11;
+
+}  // namespace
 
 std::vector<double> read_timestamps_file(const std::filesystem::path& path) {
   const std::string text = read_text_file(path);
@@ -32,6 +38,13 @@ std::vector<double> read_timestamps_file(const std::filesystem::path& path) {
       times.push_back(parse_double(field, {path.string(), line.number, "timestamp"}));
     }
     lines.push_back(line.number);
+    // Seconds past 1e11 are after the year 5000: milliseconds or nanoseconds read as seconds.
+    if (std::abs(times.back()) > kMaxTimestampSeconds) {
+      throw InputError(path.string(), line.number, "timestamp",
+                       fmt::format("{} s is not a time in seconds (past the year 5000): "
+                                   "milliseconds or nanoseconds? Give seconds, e.g. 1317046945.6",
+                                   format_number(times.back())));
+    }
   }
   for (std::size_t i = 1; i < times.size(); ++i) {
     if (!(times[i] > times[i - 1])) {
