@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -35,16 +34,13 @@ std::vector<double> read_timestamps_file(const std::filesystem::path& path) {
                                    "0-59): '{}'",
                                    field));
     } else {
-      times.push_back(parse_double(field, {path.string(), line.number, "timestamp"}));
+      const FieldLocation where{path.string(), line.number, "timestamp"};
+      times.push_back(parse_double(field, where));
+      // Seconds past 1e11 are after the year 5000: milliseconds or nanoseconds read as seconds.
+      check_plausible(times.back(), kMaxTimestampSeconds, field, "s", where,
+                      "milliseconds or nanoseconds? Give seconds, e.g. 1317046945.6");
     }
     lines.push_back(line.number);
-    // Seconds past 1e11 are after the year 5000: milliseconds or nanoseconds read as seconds.
-    if (std::abs(times.back()) > kMaxTimestampSeconds) {
-      throw InputError(path.string(), line.number, "timestamp",
-                       fmt::format("{} s is not a time in seconds (past the year 5000): "
-                                   "milliseconds or nanoseconds? Give seconds, e.g. 1317046945.6",
-                                   format_number(times.back())));
-    }
   }
   for (std::size_t i = 1; i < times.size(); ++i) {
     if (!(times[i] > times[i - 1])) {
