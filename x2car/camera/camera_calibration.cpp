@@ -335,11 +335,6 @@ void estimate_frame(const CameraFrameSource& frames, FrameReader& reader,
   }
 }
 
-// Frames the pipelines estimate at once.
-std::size_t frames_in_flight() {
-  return 2 * std::max<std::size_t>(2, std::thread::hardware_concurrency());
-}
-
 // motion alone: the road plane of every motion_guide_frame_step-th frame (> 0) without a guide (in
 // parallel, read in order), and the mounting of the median of their angles as the guide of every
 // frame; nothing when fewer than motion_guide_min_frames found it. Frames that fail here (gated,
@@ -378,7 +373,7 @@ FirstLook first_look(const CameraFrameSource& frames, FrameReader& reader,
     if (!first_error) first_error = std::current_exception();
   };
   tbb::parallel_pipeline(
-      frames_in_flight(),
+      camera_frames_in_flight(),
       tbb::make_filter<void, Sample>(
           tbb::filter_mode::serial_in_order,
           [&](tbb::flow_control& control) -> Sample {
@@ -453,7 +448,7 @@ std::vector<FrameRecord> run_frames(const CameraFrameSource& frames, FrameReader
   std::size_t next = 0;
   std::exception_ptr first_error;
   std::atomic<bool> stopping = false;
-  const std::size_t in_flight = frames_in_flight();
+  const std::size_t in_flight = camera_frames_in_flight();
   const auto span = static_cast<std::size_t>(std::max(options.motion.tracked_frames, 1));
   // No exception may leave a filter (a cancelled pipeline leaks its tokens' work): the first error
   // in frame order stops the reading and is rethrown once the pipeline has drained.
@@ -644,7 +639,7 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
   const IgnoredRegion ignored = find_ignored_region(frames, intrinsics, options);
   Estimators estimators = make_estimators(frames, options, ignored);
   // The frames in flight and the ones before them that their pairs need (none without pairs).
-  const std::size_t in_flight = frames_in_flight();
+  const std::size_t in_flight = camera_frames_in_flight();
   FrameReader reader(frames, intrinsics,
                      estimators.sequence
                          ? 2 * in_flight + static_cast<std::size_t>(options.motion.tracked_frames)
@@ -752,23 +747,35 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
     }
   }
   result.pitch_std = estimate.standard_error.pitch;
-  if (frames.motion.empty()) {
-    // The car's acceleration is unknown: the body's pitch on its suspension may be in (options).
-    result.pitch_std = std::hypot(*result.pitch_std, options.unknown_motion_pitch_floor);
-    result.diagnostics["unknown_motion_pitch_floor_deg"] =
-        deg_from_rad(options.unknown_motion_pitch_floor);
-    if (estimate.motion_known_windows == estimate.windows) {
-      append_reason(result,
-                    fmt::format("pitch without the car's motion (--ins): the images' motion gated "
-                                "accelerations (read at an assumed camera height of {:.2g} m), and "
-                                "the pitch's standard error includes {:.2g} deg for what they miss",
-                                options.filter.image_motion_camera_height_m,
-                                deg_from_rad(options.unknown_motion_pitch_floor)));
+  if (estimate.vehicle_motion_windows < estimate.windows) {
+    // The car's acceleration is unknown in some windows: the body's pitch on its suspension may
+    // be in their means (options). With `--ins` over only part of the drive, the floor is the
+    // share of windows without it: their common pitch moves the mean by that share at most.
+    const std::size_t unknown_windows = estimate.windows - estimate.vehicle_motion_windows;
+    const double pitch_floor = options.unknown_motion_pitch_floor *
+                               static_cast<double>(unknown_windows) /
+                               static_cast<double>(estimate.windows);
+    result.pitch_std = std::hypot(*result.pitch_std, pitch_floor);
+    result.diagnostics["unknown_motion_pitch_floor_deg"] = deg_from_rad(pitch_floor);
+    if (!frames.motion.empty()) {
+      append_reason(
+          result,
+          fmt::format("pitch without the car's motion in {} of the {} steady windows (--ins "
+                      "covers only part of the drive): a steady acceleration pitches the body, "
+                      "and the pitch's standard error includes {:.2g} deg for it",
+                      unknown_windows, estimate.windows, deg_from_rad(pitch_floor)));
+    } else if (estimate.motion_known_windows == estimate.windows) {
+      append_reason(
+          result,
+          fmt::format("pitch without the car's motion (--ins): the images' motion gated "
+                      "accelerations (read at an assumed camera height of {:.2g} m), and "
+                      "the pitch's standard error includes {:.2g} deg for what they miss",
+                      options.filter.image_motion_camera_height_m, deg_from_rad(pitch_floor)));
     } else {
       append_reason(result, fmt::format("pitch without the car's motion (--ins): a steady "
                                         "acceleration pitches the body, and its standard error "
                                         "includes {:.2g} deg for it",
-                                        deg_from_rad(options.unknown_motion_pitch_floor)));
+                                        deg_from_rad(pitch_floor)));
     }
   }
   result.yaw_std = estimate.standard_error.yaw;
@@ -814,6 +821,10 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
 }
 
 }  // namespace
+
+std::size_t camera_frames_in_flight() {
+  return 2 * std::max<std::size_t>(2, std::thread::hardware_concurrency());
+}
 
 CalibrationResult calibrate_camera(const CameraFrameSource& frames,
                                    const core::CameraIntrinsics& intrinsics,

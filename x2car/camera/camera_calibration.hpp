@@ -134,7 +134,8 @@ struct CameraCalibrationOptions {
   // 1 m/s^2 (0.1 g) held through a window at 1.5 deg per g [rad]. With the motion known those
   // frames are gated (`accelerating`) and it is not added. Under auto the images' motion gates
   // whole windows (TemporalFilterOptions::max_window_yaw_rate), but it reads the acceleration at
-  // an assumed camera height, and it is still added.
+  // an assumed camera height, and it is still added. With the motion of only some frames (an
+  // `--ins` log over part of the drive), it is scaled by the share of windows without it.
   double unknown_motion_pitch_floor = rad_from_deg(0.15);
   // A frame whose `read` throws InputError (a truncated or corrupt image) is skipped and counted
   // (rejections["unreadable_image"], the first message in `reason`). Off: the InputError ends the
@@ -163,6 +164,10 @@ struct CameraFrameSource {
   // estimator then tracks with CameraCalibrationOptions::lossy_tracking_window_px.
   bool lossy = false;
 };
+
+// The frames calibrate_camera estimates at once: 2 per hardware thread, at least 4. A source that
+// decodes in order (a video) keeps about twice that many behind its decoder.
+std::size_t camera_frames_in_flight();
 
 // Returns ok, insufficient_data (the filter's reason: "only 43 frames in stable stretches; need
 // 100") or unreliable; never NaN angles. InputError from `read` passes through unless

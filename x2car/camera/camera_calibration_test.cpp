@@ -127,6 +127,24 @@ TEST(CalibrateCamera, WithoutTheCarsMotionThePitchStandardErrorHoldsTheBodysPitc
   EXPECT_DOUBLE_EQ(*gated.pitch, *alone.pitch);
 }
 
+// `--ins` over only part of the drive: the windows outside the log still lack the car's motion,
+// and their share of the floor stays in the pitch's standard error (it was dropped whenever any
+// frame had a motion), with a note that says how many windows.
+TEST(CalibrateCamera, MotionOverPartOfTheDriveKeepsTheFloorForTheWindowsWithout) {
+  const CameraCalibrationOptions options = short_windows();
+  CameraFrameSource frames = street_drive(36);
+  frames.motion.assign(36, std::nullopt);
+  for (std::size_t i = 0; i < 24; ++i) frames.motion[i] = VehicleMotion{10.0, 0.0};
+  const CalibrationResult partial = calibrate_camera(frames, core::camera_preset("kitti"), options);
+  ASSERT_TRUE(partial.ok()) << partial.reason;
+  ASSERT_EQ(partial.support.at("windows"), 3);
+  EXPECT_GE(*partial.pitch_std, options.unknown_motion_pitch_floor / 3.0);
+  EXPECT_LT(*partial.pitch_std, options.unknown_motion_pitch_floor);
+  EXPECT_THAT(partial.reason, ::testing::HasSubstr("in 1 of the 3 steady windows (--ins"));
+  EXPECT_NEAR(partial.diagnostics.at("unknown_motion_pitch_floor_deg"),
+              deg_from_rad(options.unknown_motion_pitch_floor) / 3.0, 1e-9);
+}
+
 // With the car's motion known, turning and slow frames are never decoded and are counted.
 TEST(CalibrateCamera, GatesByTheCarsMotionBeforeDecoding) {
   CameraFrameSource frames = street_drive(30);

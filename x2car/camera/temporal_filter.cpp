@@ -259,6 +259,9 @@ FrameVerdict TemporalFilter::add(double time_s, const std::optional<EulerAngles>
     ++(*refused == FrameVerdict::kTurning ? refused_turning_ : refused_accelerating_);
     return verdict;
   }
+  passed.vehicle_motion_known =
+      std::all_of(window_.begin(), window_.end(),
+                  [](const Buffered& frame) { return frame.has_vehicle_motion; });
   passed.first_frame = window_.front().frame;
   passed.last_frame = window_.back().frame;
   passed.start_time = window_.front().time;
@@ -310,6 +313,7 @@ FilterEstimate TemporalFilter::current() const {
   for (const FilterWindow& window : windows_) {
     estimate.frames_in_windows += window.last_frame - window.first_frame + 1;
     if (window.motion_known) ++estimate.motion_known_windows;
+    if (window.vehicle_motion_known) ++estimate.vehicle_motion_windows;
     if (window.road_plane_frames > 0) {
       ++estimate.road_plane_windows;
       estimate.road_plane_frames += window.road_plane_frames;

@@ -175,6 +175,9 @@ struct FilterWindow {
   // Whether the car's motion through the window was known, from a VehicleMotion of every frame or
   // from the images (ImageMotion): only then were accelerations and curves gated.
   bool motion_known = false;
+  // Whether every frame of the window came with a VehicleMotion (`--ins`): only then were the
+  // accelerations that pitch the body measured rather than read from the images.
+  bool vehicle_motion_known = false;
 };
 
 struct FilterEstimate {
@@ -187,6 +190,8 @@ struct FilterEstimate {
   std::size_t road_plane_frames = 0;   // the frames behind them
   // Windows whose car motion was known (FilterWindow::motion_known).
   std::size_t motion_known_windows = 0;
+  // Windows whose every frame had a VehicleMotion (FilterWindow::vehicle_motion_known).
+  std::size_t vehicle_motion_windows = 0;
   // Times a steady window was refused by the image motion gate: turning, accelerating (a window
   // slides on by a frame after a refusal, so one curve counts many times).
   std::size_t windows_refused_turning = 0;
