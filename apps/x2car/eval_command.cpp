@@ -179,7 +179,9 @@ SensorEval eval_camera(const io::DriveSensor& sensor, const std::optional<fs::pa
     source = std::move(bag.source);
     bag_intrinsics = bag.intrinsics;
   } else if (camera::is_video_file(sensor.input)) {
-    source = camera::camera_frames_from_video(sensor.input);
+    camera::VideoFrames video = camera::camera_frames_from_video(sensor.input);
+    for (const std::string& note : video.notes) spdlog::warn("{}", note);
+    source = std::move(video.source);
   } else {
     folder = io::list_images(sensor.input);
     source = camera::camera_frames_from(folder);

@@ -17,7 +17,7 @@ std::vector<camera::FrameView> camera_frame_views(const io::DriveSensor& sensor)
   IntrinsicsSource source;
   if (sensor.intrinsics) source.intrinsics_path = sensor.intrinsics->string();
   if (camera::is_video_file(sensor.input)) {
-    return camera::sample_frame_views(camera::camera_frames_from_video(sensor.input),
+    return camera::sample_frame_views(camera::camera_frames_from_video(sensor.input).source,
                                       find_camera_intrinsics(sensor.input.string(), source));
   }
   const io::ImageFolder folder = io::list_images(sensor.input);

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <deque>
 #include <filesystem>
@@ -10,9 +11,11 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
+#include <stdexcept>
 #include <string>
 #include <system_error>
 #include <utility>
+#include <vector>
 
 #include "x2car/camera/grey_image.hpp"
 #include "x2car/core/error.hpp"
@@ -25,7 +28,13 @@ namespace x2car::camera {
 void VideoFrameOptions::Check() const {
   const OptionsCheck check("VideoFrameOptions");
   if (frame_rate_hz) check.positive("frame_rate_hz", *frame_rate_hz);
-  check.at_least("cached_frames", static_cast<double>(cached_frames), 2.0);
+  if (frame_rate_hz && timestamps) {
+    throw std::invalid_argument(
+        "VideoFrameOptions: frame_rate_hz and timestamps both give the times; give one");
+  }
+  if (cached_frames != 0) {
+    check.at_least("cached_frames", static_cast<double>(cached_frames), 2.0);
+  }
 }
 
 bool is_video_file(const std::filesystem::path& path) {
@@ -101,42 +110,118 @@ class SequentialDecoder {
   std::size_t next_ = 0;       // the index the decoder reads next
 };
 
-// Decodes the whole video once to count its frames and check that each decodes.
-std::size_t count_frames(const std::filesystem::path& path, double& frame_rate_hz) {
+// What one pass of decoding found.
+struct VideoScan {
+  std::size_t frames = 0;
+  std::vector<double> times_s;       // each frame's presentation time, from its container
+  double nominal_rate_hz = 0.0;      // the container's frame rate (FFmpeg makes one up if none)
+  std::size_t container_frames = 0;  // the container's count (0: none)
+};
+
+// Decodes the whole video once to count its frames, check that each decodes and read its times.
+VideoScan scan_video(const std::filesystem::path& path) {
   cv::VideoCapture capture = open_video(path);
-  frame_rate_hz = capture.get(cv::CAP_PROP_FPS);
-  std::size_t count = 0;
-  while (capture.grab()) ++count;
-  if (count == 0) throw InputError(path.string(), "holds no frame that can be decoded");
-  return count;
+  VideoScan scan;
+  scan.nominal_rate_hz = capture.get(cv::CAP_PROP_FPS);
+  const double container_frames = capture.get(cv::CAP_PROP_FRAME_COUNT);
+  if (std::isfinite(container_frames) && container_frames > 0.0 && container_frames < 1e9) {
+    scan.container_frames = static_cast<std::size_t>(std::llround(container_frames));
+  }
+  while (capture.grab()) {
+    ++scan.frames;
+    scan.times_s.push_back(1e-3 * capture.get(cv::CAP_PROP_POS_MSEC));
+  }
+  if (scan.frames == 0) throw InputError(path.string(), "holds no frame that can be decoded");
+  return scan;
 }
+
+// Whether the container's times can time the frames: finite and strictly increasing (a stream
+// without presentation times reads 0 at every frame).
+bool usable_times(const std::vector<double>& times_s) {
+  if (times_s.size() < 2) return false;
+  for (std::size_t i = 0; i < times_s.size(); ++i) {
+    if (!std::isfinite(times_s[i])) return false;
+    if (i > 0 && !(times_s[i] > times_s[i - 1])) return false;
+  }
+  return true;
+}
+
+std::vector<double> times_from_rate(std::size_t count, double rate_hz) {
+  std::vector<double> times;
+  times.reserve(count);
+  for (std::size_t i = 0; i < count; ++i) times.push_back(static_cast<double>(i) / rate_hz);
+  return times;
+}
+
+// Frame rates a camera's video can have [Hz]: FFmpeg gives the time base's rate (90 kHz, 1 kHz)
+// for a stream without one.
+constexpr double kMaxPlausibleFrameRateHz = 500.0;
 
 }  // namespace
 
-CameraFrameSource camera_frames_from_video(const std::filesystem::path& path,
-                                           const VideoFrameOptions& options) {
+VideoFrames camera_frames_from_video(const std::filesystem::path& path,
+                                     const VideoFrameOptions& options) {
   options.Check();
-  double container_rate_hz = 0.0;
-  const std::size_t count = count_frames(path, container_rate_hz);
-  CameraFrameSource frames;
+  const VideoScan scan = scan_video(path);
+  VideoFrames video;
+  video.container_frames = scan.container_frames;
+  CameraFrameSource& frames = video.source;
   if (options.timestamps) {
     frames.times = io::read_timestamps_file(*options.timestamps);
-    if (frames.times.size() != count) {
+    if (frames.times.size() != scan.frames) {
       throw InputError(options.timestamps->string(),
                        fmt::format("holds {} timestamps but {} has {} frames", frames.times.size(),
-                                   path.string(), count));
+                                   path.string(), scan.frames));
     }
+    video.time_source = fmt::format("the timestamps file {}", options.timestamps->string());
+  } else if (options.frame_rate_hz) {
+    frames.times = times_from_rate(scan.frames, *options.frame_rate_hz);
+    video.time_source = fmt::format("the frame rate given, {:g} Hz", *options.frame_rate_hz);
+  } else if (usable_times(scan.times_s)) {
+    // From 0 at the first frame, as the other sources without a timestamps file.
+    frames.times = scan.times_s;
+    for (double& time : frames.times) time -= scan.times_s.front();
+    video.time_source = "the video's frame times";
   } else {
-    const double rate_hz = options.frame_rate_hz.value_or(container_rate_hz);
-    if (!(rate_hz > 0.0) || !std::isfinite(rate_hz)) {
+    const double rate_hz = scan.nominal_rate_hz;
+    if (scan.frames > 1 &&
+        (!(rate_hz > 0.0) || !std::isfinite(rate_hz) || rate_hz > kMaxPlausibleFrameRateHz)) {
       throw InputError(path.string(), 0, "frame rate",
-                       "the video gives no frame rate; give one or a timestamps file");
+                       fmt::format("the video gives no frame times and no plausible frame rate "
+                                   "({:g} Hz); give --frame-rate or a timestamps file",
+                                   rate_hz));
     }
-    frames.times.reserve(count);
-    for (std::size_t i = 0; i < count; ++i)
-      frames.times.push_back(static_cast<double>(i) / rate_hz);
+    frames.times = times_from_rate(scan.frames, rate_hz > 0.0 ? rate_hz : 1.0);
+    video.time_source = fmt::format("the video's nominal frame rate, {:g} Hz", rate_hz);
+    if (scan.frames > 1) {
+      video.notes.push_back(fmt::format(
+          "{}: the frames carry no increasing times; they are timed by the container's nominal "
+          "frame rate, {:g} Hz (FFmpeg makes one up for a stream that has none); give "
+          "--frame-rate or a timestamps file if that is not the camera's",
+          path.string(), rate_hz));
+    }
   }
-  auto decoder = std::make_shared<SequentialDecoder>(path, count, options.cached_frames);
+  if (scan.frames == 1) {
+    video.notes.push_back(fmt::format(
+        "{}: holds a single frame (an image with a video's name?); calibrating needs a drive",
+        path.string()));
+  }
+  if (frames.times.size() > 1) {
+    video.mean_frame_rate_hz =
+        static_cast<double>(frames.times.size() - 1) / (frames.times.back() - frames.times.front());
+  }
+  // A container's count is an estimate in some formats (a frame or so off); one that is well above
+  // the frames decoded means decoding stopped early.
+  if (scan.container_frames > scan.frames + std::max<std::size_t>(2, scan.container_frames / 50)) {
+    video.notes.push_back(
+        fmt::format("{}: decoding stopped after {} of the {} frames the container lists (the file "
+                    "is truncated or corrupt from frame {} on); calibrating those {}",
+                    path.string(), scan.frames, scan.container_frames, scan.frames, scan.frames));
+  }
+  const std::size_t cached = options.cached_frames != 0
+                                 ? options.cached_frames
+                                 : std::max<std::size_t>(64, 2 * camera_frames_in_flight() + 16);
+  auto decoder = std::make_shared<SequentialDecoder>(path, scan.frames, cached);
   frames.read = [decoder](std::size_t index) { return decoder->frame(index); };
   // Cameras' videos are coded with loss (H.264, H.265, MJPEG); a lossless one (FFV1) is taken as
   // lossy too, which costs it little (CameraCalibrationOptions::lossy_tracking_window_px).
@@ -144,7 +229,7 @@ CameraFrameSource camera_frames_from_video(const std::filesystem::path& path,
   frames.name = [name = path.string()](std::size_t index) {
     return fmt::format("{} frame {}", name, index);
   };
-  return frames;
+  return video;
 }
 
 }  // namespace x2car::camera

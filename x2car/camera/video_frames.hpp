@@ -8,35 +8,56 @@
 // only when the cache is smaller than the calibrator's frames in flight).
 //
 // Times: from a timestamps file (one per frame, as an image folder's timestamps.txt) when given,
-// else frame index / the container's frame rate, from 0.
+// else index / frame_rate_hz when given, else each frame's presentation time in the container
+// (from 0 at the first frame; a variable frame rate keeps its real times), else, when those are
+// missing or not increasing, index / the container's nominal frame rate, with a note (FFmpeg
+// makes one up, 25 Hz or the time base's, for a stream that gives none).
 #pragma once
 
 #include <cstddef>
 #include <filesystem>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "x2car/camera/camera_calibration.hpp"
 
 namespace x2car::camera {
 
 struct VideoFrameOptions {
-  // One time per frame; absent: index / frame rate.
+  // One time per frame; absent: frame_rate_hz, else the container's times.
   std::optional<std::filesystem::path> timestamps;
-  // Overrides the container's frame rate [Hz] (absent or 0 there, or wrong) when no timestamps.
+  // Times are index / this [Hz] instead of the container's (missing or wrong there); not with
+  // timestamps.
   std::optional<double> frame_rate_hz;
-  // Decoded frames kept for readers behind the decoder (8-bit grey each).
-  std::size_t cached_frames = 64;
+  // Decoded frames kept for readers behind the decoder (8-bit grey each); 0: 64, or twice the
+  // calibrator's frames in flight (camera_frames_in_flight) and 16 more where that is more, so
+  // that no reader falls behind the cache on a machine with many cores (each miss decodes the
+  // video again from its start). Else at least 2.
+  std::size_t cached_frames = 0;
 
   // Throws std::invalid_argument naming the offending field.
   void Check() const;
 };
 
+struct VideoFrames {
+  CameraFrameSource source;  // 8-bit grey; keeps its own decoder state and may be copied
+  // Where the times came from, for the log: "the video's frame times", "--timestamps FILE", ...
+  std::string time_source;
+  double mean_frame_rate_hz = 0.0;  // frames per second of the times, first to last (0: one frame)
+  // The container's frame count (an estimate in some formats; 0 when it gives none).
+  std::size_t container_frames = 0;
+  // What the caller should tell the user: times that fell back on a nominal frame rate, a video
+  // that stopped decoding well before the container's count (truncated or corrupt).
+  std::vector<std::string> notes;
+};
+
 // Opens the video and counts its frames (by decoding them once: containers' frame counts are
 // estimates). InputError naming the file when it cannot be opened or decoded, holds no frame, has
-// no frame rate and no timestamps, or when the timestamps file's count differs from the frames'.
-// The returned source decodes as 8-bit grey; it keeps its own decoder state and may be copied.
-CameraFrameSource camera_frames_from_video(const std::filesystem::path& path,
-                                           const VideoFrameOptions& options = {});
+// no usable times (no timestamps, no frame rate, none in the container), or when the timestamps
+// file's count differs from the frames'.
+VideoFrames camera_frames_from_video(const std::filesystem::path& path,
+                                     const VideoFrameOptions& options = {});
 
 // Whether a path names a video file by its extension (mp4, avi, mkv, mov, webm, m4v; any case).
 bool is_video_file(const std::filesystem::path& path);

@@ -55,14 +55,19 @@ fs::path write_street_video(const fs::path& path, std::size_t count, double rate
 
 TEST(VideoFrames, TimesFromTheFrameRateAndFramesInAnyOrder) {
   const fs::path video = write_street_video(temp_path("street.avi"), 12);
-  const CameraFrameSource frames = camera_frames_from_video(video);
+  const VideoFrames found = camera_frames_from_video(video);
+  const CameraFrameSource& frames = found.source;
   ASSERT_EQ(frames.times.size(), 12U);
   EXPECT_DOUBLE_EQ(frames.times[0], 0.0);
   EXPECT_NEAR(frames.times[11], 1.1, 1e-9);
+  EXPECT_EQ(found.time_source, "the video's frame times");
+  EXPECT_NEAR(found.mean_frame_rate_hz, 10.0, 1e-9);
+  EXPECT_EQ(found.container_frames, 12U);
+  EXPECT_TRUE(found.notes.empty());
   // Forward, back beyond a small cache (reopens), and again: the same pixels each time.
   VideoFrameOptions small_cache;
   small_cache.cached_frames = 2;
-  const CameraFrameSource reread = camera_frames_from_video(video, small_cache);
+  const CameraFrameSource reread = camera_frames_from_video(video, small_cache).source;
   const cv::Mat tenth = frames.read(10);
   EXPECT_EQ(tenth.type(), CV_8UC1);
   for (const std::size_t index : {10U, 3U, 4U, 11U, 0U, 10U}) {
@@ -82,7 +87,7 @@ TEST(VideoFrames, CalibratesLikeTheImages) {
   CameraCalibrationOptions options;
   options.filter.window_frames = 10;
   const CalibrationResult result =
-      calibrate_camera(camera_frames_from_video(video), even_kitti(), options);
+      calibrate_camera(camera_frames_from_video(video).source, even_kitti(), options);
   ASSERT_TRUE(result.ok()) << result.reason;
   EXPECT_THAT(*result.roll, AngleNearDeg(kVideoMounting.roll, 0.1));
   EXPECT_THAT(*result.pitch, AngleNearDeg(kVideoMounting.pitch, 0.1));
@@ -95,7 +100,7 @@ TEST(VideoFrames, TimestampsFileAndFrameRate) {
   std::ofstream(times) << "100.0\n100.05\n100.1\n";
   VideoFrameOptions options;
   options.timestamps = times;
-  EXPECT_NEAR(camera_frames_from_video(video, options).times[1], 100.05, 1e-9);
+  EXPECT_NEAR(camera_frames_from_video(video, options).source.times[1], 100.05, 1e-9);
   std::ofstream(times) << "100.0\n100.05\n";
   try {
     camera_frames_from_video(video, options);
@@ -105,9 +110,28 @@ TEST(VideoFrames, TimestampsFileAndFrameRate) {
   }
   VideoFrameOptions rate;
   rate.frame_rate_hz = 20.0;
-  EXPECT_NEAR(camera_frames_from_video(video, rate).times[2], 0.1, 1e-9);
+  EXPECT_NEAR(camera_frames_from_video(video, rate).source.times[2], 0.1, 1e-9);
   rate.frame_rate_hz = -1.0;
   EXPECT_THROW(camera_frames_from_video(video, rate), std::invalid_argument);
+  // Both give the times: the frame rate was silently ignored.
+  options.frame_rate_hz = 20.0;
+  EXPECT_THROW(camera_frames_from_video(video, options), std::invalid_argument);
+}
+
+// A video cut short (a recording that stopped, a copy that did not finish) decodes fewer frames
+// than its container lists: it is calibrated, and the note says so (it was silently shortened).
+TEST(VideoFrames, ATruncatedVideoSaysWhereDecodingStopped) {
+  const fs::path whole = write_street_video(temp_path("whole.avi"), 40);
+  const fs::path cut = temp_path("cut.avi");
+  fs::copy_file(whole, cut, fs::copy_options::overwrite_existing);
+  fs::resize_file(cut, fs::file_size(whole) / 2);
+  const VideoFrames video = camera_frames_from_video(cut);
+  EXPECT_GT(video.source.times.size(), 5U);
+  EXPECT_LT(video.source.times.size(), 30U);
+  ASSERT_EQ(video.notes.size(), 1U);
+  EXPECT_NE(video.notes[0].find("decoding stopped after"), std::string::npos) << video.notes[0];
+  EXPECT_NE(video.notes[0].find("of the 40 frames"), std::string::npos) << video.notes[0];
+  EXPECT_NE(video.notes[0].find("cut.avi"), std::string::npos) << video.notes[0];
 }
 
 TEST(VideoFrames, OpensARelativeNameWithAColon) {
@@ -117,7 +141,7 @@ TEST(VideoFrames, OpensARelativeNameWithAColon) {
   fs::current_path(video.parent_path());
   std::size_t count = 0;
   try {
-    count = camera_frames_from_video(video.filename()).times.size();
+    count = camera_frames_from_video(video.filename()).source.times.size();
   } catch (const InputError& error) {
     ADD_FAILURE() << error.what();
   }
