@@ -9,6 +9,7 @@
 #include "apps/x2car/bag_inputs.hpp"
 #include "apps/x2car/calibration_output.hpp"
 #include "apps/x2car/camera_inputs.hpp"
+#include "apps/x2car/ins_inputs.hpp"
 #include "apps/x2car/number_checks.hpp"
 #include "apps/x2car/progress_bar.hpp"
 #include "apps/x2car/subcommand.hpp"
@@ -158,12 +159,22 @@ int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
                        "give --intrinsics");
     }
   } else if (camera::is_video_file(arguments.input_path)) {
-    camera::VideoFrameOptions video;
-    if (!arguments.timestamps_path.empty()) video.timestamps = arguments.timestamps_path;
-    video.frame_rate_hz = arguments.frame_rate_hz;
-    frames = camera::camera_frames_from_video(arguments.input_path, video);
-    spdlog::info("found {} frames in {} ({:.1f} s)", frames.times.size(), arguments.input_path,
-                 frames.times.back() - frames.times.front());
+    if (!arguments.timestamps_path.empty() && arguments.frame_rate_hz) {
+      throw std::invalid_argument(
+          "--timestamps and --frame-rate both give the frames' times; "
+          "give one");
+    }
+    camera::VideoFrameOptions video_options;
+    if (!arguments.timestamps_path.empty()) video_options.timestamps = arguments.timestamps_path;
+    video_options.frame_rate_hz = arguments.frame_rate_hz;
+    camera::VideoFrames video =
+        camera::camera_frames_from_video(arguments.input_path, video_options);
+    spdlog::info("found {} frames in {} ({:.1f} s, {:.3g} frames/s; times from {})",
+                 video.source.times.size(), arguments.input_path,
+                 video.source.times.back() - video.source.times.front(), video.mean_frame_rate_hz,
+                 video.time_source);
+    for (const std::string& note : video.notes) spdlog::warn("{}", note);
+    frames = std::move(video.source);
   } else {
     if (!arguments.timestamps_path.empty() || arguments.frame_rate_hz) {
       throw std::invalid_argument("--timestamps and --frame-rate are for a video file's --input");
@@ -199,7 +210,10 @@ int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
     use_learned_estimator(arguments.model_path, intrinsics, options);
   }
   if (!arguments.ins_path.empty()) {
-    frames.motion = camera_motion_from_log(arguments.ins_path, frames, arguments.bag.ins_topic);
+    // A drive folder's log is an input too.
+    const fs::path ins_log = ins_log_of(arguments.ins_path);
+    check_output_arguments(arguments.output, {{{"--ins", ins_log.string()}}});
+    frames.motion = camera_motion_from_log(ins_log.string(), frames, arguments.bag.ins_topic);
   }
   ProgressBar progress("frames", spdlog::should_log(spdlog::level::info));
   options.progress = progress.callback();
@@ -248,8 +262,9 @@ RunCommand setup_calibrate_camera_command(CLI::App& command) {
   command
       .add_option(
           "--ins", arguments->ins_path,
-          "GNSS/INS log (any form x2car reads): frames slow, turning or accelerating are not used")
-      ->type_name("FILE");
+          "GNSS/INS log (any form x2car reads, or a drive folder holding one): frames slow, "
+          "turning or accelerating are not used")
+      ->type_name("PATH");
   command
       .add_option("--camera-index", arguments->camera_index,
                   "KITTI camera: image_0X/ and the _0X keys of calib_cam_to_cam.txt (default 02)")

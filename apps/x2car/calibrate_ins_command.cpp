@@ -9,12 +9,12 @@
 
 #include "apps/x2car/bag_inputs.hpp"
 #include "apps/x2car/calibration_output.hpp"
+#include "apps/x2car/ins_inputs.hpp"
 #include "apps/x2car/subcommand.hpp"
 #include "apps/x2car/track_options.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/core/rotation.hpp"
 #include "x2car/ins/ins_calibration.hpp"
-#include "x2car/io/drive_folder.hpp"
 #include "x2car/io/ins_log.hpp"
 
 namespace x2car::cli {
@@ -60,24 +60,6 @@ ins::InsCalibrationOptions calibration_options(const CalibrateInsArguments& argu
   options.use_device_velocity = !arguments.spline_velocity;
   options.keep_series = !arguments.output.without_series;
   return options;
-}
-
-// The GNSS/INS log a folder names: a drive folder (x2car simulate's layout, or any folder with an
-// x2car.yaml manifest) holds one; any other folder is read as KITTI OXTS, as before.
-std::filesystem::path ins_log_of(const std::filesystem::path& input) {
-  std::error_code error;
-  if (!std::filesystem::is_directory(input, error)) return input;
-  const bool drive = std::filesystem::exists(input / "ins", error) ||
-                     std::filesystem::exists(input / io::kDriveManifestName, error);
-  if (!drive) return input;
-  const io::DriveFolder folder = io::find_drive_sensors(input);
-  if (!folder.ins_log) {
-    throw InputError(input.string(),
-                     "the drive folder has no GNSS/INS log (ins/novatel_enu.csv, "
-                     "or a sensor of type ins in x2car.yaml)");
-  }
-  spdlog::info("the drive's GNSS/INS log: {}", folder.ins_log->string());
-  return *folder.ins_log;
 }
 
 int run_calibrate_ins(const CalibrateInsArguments& arguments) {

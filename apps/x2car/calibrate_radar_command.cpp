@@ -9,6 +9,7 @@
 
 #include "apps/x2car/bag_inputs.hpp"
 #include "apps/x2car/calibration_output.hpp"
+#include "apps/x2car/ins_inputs.hpp"
 #include "apps/x2car/number_checks.hpp"
 #include "apps/x2car/subcommand.hpp"
 #include "x2car/io/ins_log.hpp"
@@ -70,12 +71,15 @@ int run_calibrate_radar(const CalibrateRadarArguments& arguments) {
   const io::RadarLog radar_log = io::read_radar(arguments.input_path, radar_options);
   io::InsReadOptions ins_options;
   ins_options.topic = arguments.bag.ins_topic_or_none();
-  const io::InsLog ins_log = io::read_ins_log(arguments.ins_path, ins_options);
+  // A drive folder's log is an input too.
+  const std::filesystem::path ins_log_path = ins_log_of(arguments.ins_path);
+  check_output_arguments(arguments.output, {{{"--ins", ins_log_path.string()}}});
+  const io::InsLog ins_log = io::read_ins_log(ins_log_path, ins_options);
   for (const std::string& notice : radar_log.notices) spdlog::warn("{}", notice);
   for (const std::string& notice : ins_log.notices) spdlog::warn("{}", notice);
   spdlog::info("read {} radar detections ({}) from {} and {} GNSS/INS samples from {}",
                radar_log.detections.size(), io::to_string(radar_log.layout), arguments.input_path,
-               ins_log.records.size(), arguments.ins_path);
+               ins_log.records.size(), ins_log_path.string());
   // The radar's times on the GNSS/INS log's clock.
   const std::vector<io::RadarDetection> detections =
       radar::detections_on_ins_clock(radar_log, ins_log);
@@ -108,7 +112,7 @@ RunCommand setup_calibrate_radar_command(CLI::App& command) {
       .add_option("--ins", arguments->ins_path,
                   "GNSS/INS log: novatel_enu.csv, a generic CSV with a header, a KITTI OXTS "
                   "folder, or a bag with a nav_msgs/Odometry or PoseStamped topic (the radar's "
-                  "bag itself, for one)")
+                  "bag itself, for one), or a drive folder holding one")
       ->type_name("PATH")
       ->required();
   command

@@ -61,6 +61,7 @@ std::vector<std::optional<camera::VehicleMotion>> camera_motion_from_log(
   io::InsReadOptions read_options;
   if (!topic.empty()) read_options.topic = topic;
   const io::InsLog log = io::read_ins_log(path, read_options);
+  for (const std::string& notice : log.notices) spdlog::warn("{}", notice);
   camera::InsMotionOptions options;
   const bool unix_frames = !frames.times.empty() && frames.times.front() > 1e8;
   if (unix_frames && log.start_unix_time) options.ins_to_frame_offset_s = *log.start_unix_time;

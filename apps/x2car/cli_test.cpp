@@ -725,6 +725,20 @@ TEST(CalibrateCamera, InsLogGatesTurningFrames) {
   EXPECT_EQ(gated.exit_code, 1) << gated.output;
   EXPECT_THAT(gated.output, HasSubstr("24 of 24 frames covered"));
   EXPECT_THAT(io::read_text_file(folder / "result.json"), HasSubstr("\"turning\": 24"));
+  // A drive folder gives its log, as to calibrate ins (it was read as a KITTI OXTS folder).
+  std::filesystem::copy_file(log, folder / "gnss.csv");
+  io::write_text_file(folder / "x2car.yaml", "sensors:\n  gnss: {type: ins, input: gnss.csv}\n");
+  const CliRun from_folder =
+      run_x2car("calibrate camera --input " + folder.string() + " --window-frames 12 --ins " +
+                folder.string() + " --out " + (folder / "from_folder.json").string());
+  EXPECT_EQ(from_folder.exit_code, 1) << from_folder.output;
+  EXPECT_THAT(from_folder.output, HasSubstr("24 of 24 frames covered"));
+  // The log found in the folder is an input: no output may write over it.
+  const CliRun over_log =
+      run_x2car("calibrate camera --input " + folder.string() + " --window-frames 12 --ins " +
+                folder.string() + " --out " + (folder / "gnss.csv").string());
+  EXPECT_EQ(over_log.exit_code, 2) << over_log.output;
+  EXPECT_EQ(io::read_text_file(folder / "gnss.csv"), ins);
 }
 
 // A video file is an input like a folder of images: the drive's frames as a Motion-JPEG AVI,
@@ -768,6 +782,14 @@ TEST(CalibrateCamera, RecoversTheMountingFromAVideoFile) {
                 (folder / "camera" / "timestamps.txt").string());
   EXPECT_EQ(misused.exit_code, 2) << misused.output;
   EXPECT_THAT(misused.output, HasSubstr("--timestamps"));
+  // The video's times and rate are said; --frame-rate with --timestamps is a usage error (the
+  // rate was silently ignored).
+  EXPECT_THAT(calibrate.output, HasSubstr("10 frames/s; times from the video's frame times"));
+  const CliRun both = run_x2car("calibrate camera --input " + video.string() + " --timestamps " +
+                                (folder / "camera" / "timestamps.txt").string() +
+                                " --frame-rate 10 --window-frames 12");
+  EXPECT_EQ(both.exit_code, 2) << both.output;
+  EXPECT_THAT(both.output, HasSubstr("give one"));
   // The motion estimator on a scene that does not move: exit 1, the reasons counted.
   const CliRun motion = run_x2car("calibrate camera --input " + folder.string() +
                                   " --estimator motion --window-frames 12 --out " +

@@ -3,6 +3,8 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include <opencv2/core/utils/logger.hpp>
+
 namespace x2car::cli {
 
 void configure_logging(int verbosity) {
@@ -15,6 +17,11 @@ void configure_logging(int verbosity) {
   if (verbosity >= 2) level = spdlog::level::trace;
   logger->set_level(level);
   spdlog::set_default_logger(logger);
+  // OpenCV logs to stderr on its own: videoio tries every backend on a file FFmpeg cannot open
+  // (GStreamer, image sequences) and prints each one's failure, which x2car reports itself, in its
+  // words and naming the file. Its messages show with -v.
+  cv::utils::logging::setLogLevel(verbosity >= 1 ? cv::utils::logging::LOG_LEVEL_WARNING
+                                                 : cv::utils::logging::LOG_LEVEL_SILENT);
 }
 
 }  // namespace x2car::cli

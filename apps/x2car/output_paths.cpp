@@ -101,7 +101,8 @@ void check_output_files(std::span<const NamedPath> outputs, std::span<const Name
     }
     check_not_an_input(output, path, inputs);
     for (std::size_t j = 0; j < i; ++j) {
-      if (!outputs[j].path.empty() && resolved(outputs[j].path) == path) {
+      if (!outputs[j].path.empty() &&
+          (resolved(outputs[j].path) == path || same_file(resolved(outputs[j].path), path))) {
         throw std::invalid_argument(fmt::format("{} and {} name the same file {}",
                                                 outputs[j].option, output.option, output.path));
       }

@@ -184,6 +184,12 @@ std::string format_utc_time(std::int64_t unix_time_ns) {
 }
 
 std::optional<std::int64_t> parse_utc_time(std::string_view text) {
+  // ISO 8601's designators of UTC itself; another offset is not UTC and does not parse.
+  if (text.ends_with('Z')) {
+    text.remove_suffix(1);
+  } else if (text.ends_with("+00:00")) {
+    text.remove_suffix(6);
+  }
   std::size_t pos = 0;
   const auto year = read_digits(text, pos, 4);
   const bool dash1 = read_char(text, pos, "-");
