@@ -11,6 +11,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -135,15 +136,35 @@ VideoScan scan_video(const std::filesystem::path& path) {
   return scan;
 }
 
-// Whether the container's times can time the frames: finite and strictly increasing (a stream
-// without presentation times reads 0 at every frame).
-bool usable_times(const std::vector<double>& times_s) {
-  if (times_s.size() < 2) return false;
-  for (std::size_t i = 0; i < times_s.size(); ++i) {
-    if (!std::isfinite(times_s[i])) return false;
-    if (i > 0 && !(times_s[i] > times_s[i - 1])) return false;
+// Frames a decoder may still hold when the file ends (B-frame reordering and FFmpeg's frame
+// threads, at most 16 of them for H.264): OpenCV 4.6 returns those without a time.
+constexpr std::size_t kMaxFlushedFrames = 32;
+
+// The frames' times from the container's, from 0 at the first, when they can time the frames:
+// finite and strictly increasing, but for at most kMaxFlushedFrames at the end that read no time
+// (0, or not after the one before), which are spaced by the median interval before them. Else
+// nullopt (a stream without presentation times reads 0 at every frame). `flushed`: those frames.
+std::optional<std::vector<double>> container_times(const std::vector<double>& times_s,
+                                                   std::size_t& flushed) {
+  std::size_t increasing = 0;  // the frames of the strictly increasing start
+  while (increasing < times_s.size() && std::isfinite(times_s[increasing]) &&
+         (increasing == 0 || times_s[increasing] > times_s[increasing - 1])) {
+    ++increasing;
   }
-  return true;
+  flushed = times_s.size() - increasing;
+  if (increasing < 3 || flushed > kMaxFlushedFrames) return std::nullopt;
+  std::vector<double> times(times_s.begin(),
+                            times_s.begin() + static_cast<std::ptrdiff_t>(increasing));
+  for (double& time : times) time -= times_s.front();
+  std::vector<double> intervals;
+  intervals.reserve(times.size() - 1);
+  for (std::size_t i = 1; i < times.size(); ++i) intervals.push_back(times[i] - times[i - 1]);
+  std::nth_element(intervals.begin(),
+                   intervals.begin() + static_cast<std::ptrdiff_t>(intervals.size() / 2),
+                   intervals.end());
+  const double median_interval_s = intervals[intervals.size() / 2];
+  while (times.size() < times_s.size()) times.push_back(times.back() + median_interval_s);
+  return times;
 }
 
 std::vector<double> times_from_rate(std::size_t count, double rate_hz) {
@@ -177,11 +198,16 @@ VideoFrames camera_frames_from_video(const std::filesystem::path& path,
   } else if (options.frame_rate_hz) {
     frames.times = times_from_rate(scan.frames, *options.frame_rate_hz);
     video.time_source = fmt::format("the frame rate given, {:g} Hz", *options.frame_rate_hz);
-  } else if (usable_times(scan.times_s)) {
+  } else if (std::size_t flushed = 0;
+             std::optional<std::vector<double>> times = container_times(scan.times_s, flushed)) {
     // From 0 at the first frame, as the other sources without a timestamps file.
-    frames.times = scan.times_s;
-    for (double& time : frames.times) time -= scan.times_s.front();
-    video.time_source = "the video's frame times";
+    frames.times = std::move(*times);
+    video.time_source = flushed == 0
+                            ? std::string("the video's frame times")
+                            : fmt::format(
+                                  "the video's frame times (the last {}, which the decoder gives "
+                                  "without one, a median interval apart)",
+                                  flushed);
   } else {
     const double rate_hz = scan.nominal_rate_hz;
     if (scan.frames > 1 &&

@@ -118,6 +118,26 @@ TEST(VideoFrames, TimestampsFileAndFrameRate) {
   EXPECT_THROW(camera_frames_from_video(video, options), std::invalid_argument);
 }
 
+// An H.264 MP4 (the common camera video): the decoder gives its last frames, held for reordering,
+// without a time; they are spaced as the frames before, and the times need no note.
+TEST(VideoFrames, TimesAnH264VideoByItsFramesTimes) {
+  const fs::path path = temp_path("street_h264.mp4");
+  const core::CameraIntrinsics kitti = even_kitti();
+  cv::VideoWriter writer(path.string(), cv::CAP_FFMPEG, cv::VideoWriter::fourcc('a', 'v', 'c', '1'),
+                         12.5, cv::Size(kitti.width, kitti.height), false);
+  if (!writer.isOpened()) GTEST_SKIP() << "this OpenCV writes no H.264";
+  for (std::size_t i = 0; i < 30; ++i) writer.write(street_frame(i));
+  writer.release();
+  const VideoFrames video = camera_frames_from_video(path);
+  ASSERT_EQ(video.source.times.size(), 30U);
+  for (std::size_t i = 0; i < 30; ++i) {
+    EXPECT_NEAR(video.source.times[i], 0.08 * static_cast<double>(i), 1e-6) << i;
+  }
+  EXPECT_EQ(video.time_source.rfind("the video's frame times", 0), 0U) << video.time_source;
+  EXPECT_NEAR(video.mean_frame_rate_hz, 12.5, 1e-6);
+  EXPECT_TRUE(video.notes.empty());
+}
+
 // A video cut short (a recording that stopped, a copy that did not finish) decodes fewer frames
 // than its container lists: it is calibrated, and the note says so (it was silently shortened).
 TEST(VideoFrames, ATruncatedVideoSaysWhereDecodingStopped) {
