@@ -14,6 +14,7 @@
 #include <opencv2/core.hpp>
 #include <thread>
 
+#include "x2car/camera/facing_check.hpp"
 #include "x2car/camera/grey_image.hpp"
 #include "x2car/camera/vanishing_rotation.hpp"
 #include "x2car/core/error.hpp"
@@ -27,6 +28,7 @@ void CameraCalibrationOptions::Check() const {
   if (!estimator && method != CameraMethod::kMotion) geometric.Check();
   if (!estimator && method != CameraMethod::kGeometric) motion.Check();
   check.positive("max_pair_gap_s", max_pair_gap_s);
+  if (check_facing) facing.Check();
   check.at_least("noisy_estimator_block_frames", noisy_estimator_block_frames, 1);
   check.at_least("estimator_min_windows", estimator_min_windows, 1);
   check.at_least("estimator_standard_error_floor", estimator_standard_error_floor, 0.0);
@@ -633,6 +635,67 @@ IgnoredRegion find_ignored_region(const CameraFrameSource& frames,
   return {std::move(region), found};
 }
 
+// The vanishing point gives the car's x axis only up to its sign (facing_check.hpp): the images'
+// motion over the steady windows' frame pairs says whether the camera looks back, and then its
+// yaw is turned by 180 deg: R_V_B -> Rz(pi) R_V_B reverses the car's x and y axes in the camera
+// and keeps its z, so roll and pitch keep their values (the per-frame yaws alike). Returns the
+// reason to mark the result unreliable when the moving pairs disagree.
+std::optional<std::string> settle_facing(const std::vector<FilterWindow>& windows,
+                                         FrameReader& reader,
+                                         const core::CameraIntrinsics& intrinsics,
+                                         const cv::Mat& ignored_region,
+                                         const FacingCheckOptions& options,
+                                         CalibrationResult& result) {
+  const std::optional<VanishingGeometry> geometry = vanishing_geometry_from_rotation(
+      rotation_from_euler({*result.roll, *result.pitch, *result.yaw}), intrinsics.camera_matrix());
+  if (!geometry) return std::nullopt;
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  for (const FilterWindow& window : windows) {
+    for (std::size_t i = window.first_frame; i < window.last_frame; ++i)
+      pairs.emplace_back(i, i + 1);
+  }
+  const auto read = [&reader](std::size_t index) {
+    try {
+      return reader.read(index);
+    } catch (const InputError&) {
+      return cv::Mat();  // an unreadable image (skip_bad_images) does not vote
+    }
+  };
+  const FacingCheck check =
+      check_facing(read, pairs, intrinsics, geometry->vanishing_point_px, ignored_region, options);
+  result.support["facing_pairs_flowing_out"] = static_cast<std::int64_t>(check.expanding);
+  result.support["facing_pairs_flowing_in"] = static_cast<std::int64_t>(check.contracting);
+  const std::size_t moving = check.expanding + check.contracting;
+  switch (check.facing) {
+    case Facing::kAhead:
+      return std::nullopt;
+    case Facing::kBack:
+      result.yaw = wrap_angle(*result.yaw + kPi);
+      for (Series& series : result.series) {
+        if (series.name != "frame_yaw" && series.name != "frame_road_plane_yaw") continue;
+        for (double& yaw : series.value) yaw = wrap_angle(yaw + kPi);
+      }
+      append_reason(result,
+                    fmt::format("the camera looks back: the scene flowed into the road's vanishing "
+                                "point in {} of the {} moving frame pairs, so its yaw is the "
+                                "vanishing point's turned by 180 deg",
+                                check.contracting, moving));
+      return std::nullopt;
+    case Facing::kUndecided:
+      append_reason(result, fmt::format("taken as looking ahead: only {} of {} frame pairs moved "
+                                        "enough to tell a camera that looks back",
+                                        moving, check.pairs));
+      return std::nullopt;
+    case Facing::kConflicting:
+      break;
+  }
+  return fmt::format(
+      "the images' motion does not say whether the camera looks ahead or back: "
+      "the scene flowed out of the road's vanishing point in {} and into it in {} "
+      "moving frame pairs",
+      check.expanding, check.contracting);
+}
+
 CalibrationResult calibrate(const CameraFrameSource& frames,
                             const core::CameraIntrinsics& intrinsics,
                             const CameraCalibrationOptions& options) {
@@ -803,6 +866,13 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
                     "{:.3f}, yaw {:.3f} deg (at most {:.3f} deg)",
                     estimate.windows, deg_from_rad(spread.roll), deg_from_rad(spread.pitch),
                     deg_from_rad(spread.yaw), deg_from_rad(options.max_window_disagreement)));
+  }
+  const bool vanishing_point_method = options.estimator || options.method != CameraMethod::kMotion;
+  if (options.check_facing && vanishing_point_method) {
+    if (const std::optional<std::string> conflict = settle_facing(
+            filter.windows(), reader, intrinsics, ignored.region, options.facing, result)) {
+      return mark_unreliable(std::move(result), *conflict);
+    }
   }
   if (ignored.detected) {
     append_reason(result, fmt::format("what stayed in view while the scene moved (the car's own "

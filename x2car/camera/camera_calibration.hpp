@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "x2car/camera/car_region.hpp"
+#include "x2car/camera/facing_check.hpp"
 #include "x2car/camera/frame_estimate.hpp"
 #include "x2car/camera/geometric_estimator.hpp"
 #include "x2car/camera/road_plane_motion.hpp"
@@ -137,6 +138,13 @@ struct CameraCalibrationOptions {
   // an assumed camera height, and it is still added. With the motion of only some frames (an
   // `--ins` log over part of the drive), it is scaled by the share of windows without it.
   double unknown_motion_pitch_floor = rad_from_deg(0.15);
+  // Whether the camera looks ahead or back, from the images' motion (facing_check.hpp), for the
+  // vanishing-point methods (geometric, auto, an estimator's): the vanishing point of the road
+  // gives the car's x axis only up to its sign. A camera found looking back has its yaw turned by
+  // 180 deg and the note says so; moving frame pairs that disagree make the result unreliable;
+  // too few moving pairs leave it taken as looking ahead, said in the note. Off: always ahead.
+  bool check_facing = true;
+  FacingCheckOptions facing;
   // A frame whose `read` throws InputError (a truncated or corrupt image) is skipped and counted
   // (rejections["unreadable_image"], the first message in `reason`). Off: the InputError ends the
   // run. An image whose size is not the intrinsics' always ends it (the wrong intrinsics).

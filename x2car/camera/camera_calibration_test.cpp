@@ -98,6 +98,55 @@ TEST(CalibrateCamera, RecoversTheMountingOfAStreetDrive) {
   }
 }
 
+// A camera that looks back sees the road's vanishing point where one that looks ahead does: only
+// the motion tells them apart (the scene flows into the vanishing point behind a car that drives
+// on). The rear camera's yaw comes back turned by 180 deg, roll and pitch as they are, with a note;
+// before, it came back ok with its yaw 180 deg wrong. The front camera on the same drive stays.
+TEST(CalibrateCamera, ACameraThatLooksBackIsFoundByTheImagesMotion) {
+  const EulerAngles rear_mounting{rad_from_deg(0.6), rad_from_deg(1.5),
+                                  wrap_angle(kPi + rad_from_deg(1.2))};
+  const auto drive = [](const EulerAngles& mounting, const Eigen::Vector3d& position) {
+    CameraFrameSource frames;
+    for (std::size_t i = 0; i < 24; ++i) frames.times.push_back(0.1 * static_cast<double>(i));
+    frames.read = [mounting, position](std::size_t index) {
+      testing::StreetScene scene;
+      scene.vehicle_from_camera = mounting;
+      scene.camera_in_vehicle = position;
+      scene.world_behind = true;
+      scene.travelled_m = 0.8 * static_cast<double>(index);  // 8 m/s
+      scene.noise_seed = index + 1;
+      return testing::draw_street(scene, core::camera_preset("kitti"));
+    };
+    return frames;
+  };
+  const CalibrationResult rear = calibrate_camera(drive(rear_mounting, {-0.9, 0.0, 1.2}),
+                                                  core::camera_preset("kitti"), short_windows());
+  ASSERT_TRUE(rear.ok()) << rear.reason;
+  EXPECT_THAT(*rear.roll, AngleNearDeg(rear_mounting.roll, 0.1));
+  EXPECT_THAT(*rear.pitch, AngleNearDeg(rear_mounting.pitch, 0.1));
+  EXPECT_THAT(*rear.yaw, AngleNearDeg(rear_mounting.yaw, 0.1));
+  EXPECT_THAT(rear.reason, ::testing::HasSubstr("the camera looks back"));
+  EXPECT_GT(rear.support.at("facing_pairs_flowing_in"), 0);
+  EXPECT_EQ(rear.support.at("facing_pairs_flowing_out"), 0);
+
+  const EulerAngles front_mounting{rad_from_deg(0.6), rad_from_deg(1.5), rad_from_deg(1.2)};
+  const CalibrationResult front = calibrate_camera(drive(front_mounting, {1.5, 0.0, 1.4}),
+                                                   core::camera_preset("kitti"), short_windows());
+  ASSERT_TRUE(front.ok()) << front.reason;
+  EXPECT_THAT(*front.yaw, AngleNearDeg(front_mounting.yaw, 0.1));
+  EXPECT_THAT(front.reason, ::testing::Not(::testing::HasSubstr("looks back")));
+  EXPECT_GT(front.support.at("facing_pairs_flowing_out"), 0);
+  EXPECT_EQ(front.support.at("facing_pairs_flowing_in"), 0);
+
+  // Off, the rear camera is taken as looking ahead: its yaw 180 deg away.
+  CameraCalibrationOptions unchecked = short_windows();
+  unchecked.check_facing = false;
+  const CalibrationResult assumed = calibrate_camera(drive(rear_mounting, {-0.9, 0.0, 1.2}),
+                                                     core::camera_preset("kitti"), unchecked);
+  ASSERT_TRUE(assumed.ok()) << assumed.reason;
+  EXPECT_THAT(*assumed.yaw, AngleNearDeg(wrap_angle(rear_mounting.yaw + kPi), 0.1));
+}
+
 // A road that keeps turning: the vanishing point wanders and no window is steady. Insufficient
 // data with a reason, never a number.
 TEST(CalibrateCamera, ACurvingRoadGivesNoNumber) {

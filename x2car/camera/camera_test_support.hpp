@@ -32,6 +32,10 @@ struct StreetScene {
   bool buildings = true;    // facades with windows (vertical and along-road edges)
   bool poles = true;        // vertical poles beside the road
   bool cross_bars = false;  // stop lines across the road (a second horizontal direction)
+  // How far the car has driven down the road [m] (the scene moves past a camera that travels).
+  double travelled_m = 0.0;
+  // The road, facades and poles behind the car too, mirrored (for a camera that looks back).
+  bool world_behind = false;
   double noise_grey = 2.0;  // Gaussian pixel noise [grey levels]
   std::uint64_t noise_seed = 1;
 };
@@ -67,7 +71,8 @@ class Painter {
     // against it, so a road point p_road is at Rz(-heading) p_road in the car.
     const Eigen::Matrix3d vehicle_from_road = rotation_from_euler({0.0, 0.0, -scene.road_heading});
     optical_from_road_ = vehicle_from_optical.transpose() * vehicle_from_road;
-    camera_in_road_ = vehicle_from_road.transpose() * scene.camera_in_vehicle;
+    camera_in_road_ = vehicle_from_road.transpose() * scene.camera_in_vehicle +
+                      Eigen::Vector3d(scene.travelled_m, 0.0, 0.0);
   }
 
   // A planar polygon given in the road frame [m].
@@ -126,7 +131,7 @@ inline void add_grey_noise(const StreetScene& scene, cv::Mat& image) {
 // The grey image of `scene` as `intrinsics` (no distortion) sees it.
 inline cv::Mat draw_street(const StreetScene& scene, const core::CameraIntrinsics& intrinsics) {
   detail::Painter painter(scene, intrinsics);
-  const double x_near = painter.camera_in_road().x() - 5.0;
+  const double x_near = scene.world_behind ? -600.0 : painter.camera_in_road().x() - 5.0;
   painter.ground(x_near, 600.0, -300.0, 300.0, 120.0);  // verge
   painter.ground(x_near, 400.0, -7.0, 7.0, 75.0);       // asphalt
   for (const double y : {-5.25, -1.75, 1.75, 5.25}) {
@@ -154,7 +159,22 @@ inline cv::Mat draw_street(const StreetScene& scene, const core::CameraIntrinsic
       boxes.push_back({x + 5.0, 1, -8.0});
     }
   }
-  std::sort(boxes.begin(), boxes.end(), [](const Box& a, const Box& b) { return a.x > b.x; });
+  if (scene.world_behind) {
+    // Mirrored about x = 0: a facade spans x..x + 14 m, so its mirror starts 14 m further back.
+    const std::size_t ahead = boxes.size();
+    for (std::size_t i = 0; i < ahead; ++i) {
+      const Box box = boxes[i];
+      boxes.push_back({box.kind == 0 ? -box.x - 14.0 : -box.x, box.kind, -box.y});
+    }
+  }
+  // Far to near from the camera (a facade's near end: x ahead of it, x + 14 m behind it).
+  const double camera_x = painter.camera_in_road().x();
+  const auto distance = [camera_x](const Box& box) {
+    const double near_x = box.kind == 0 && box.x < camera_x ? box.x + 14.0 : box.x;
+    return std::abs(near_x - camera_x);
+  };
+  std::sort(boxes.begin(), boxes.end(),
+            [&distance](const Box& a, const Box& b) { return distance(a) > distance(b); });
   int count = 0;
   for (const Box& box : boxes) {
     if (box.kind == 0) {

@@ -1,0 +1,110 @@
+#include "x2car/camera/facing_check.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+#include <optional>
+#include <utility>
+
+#include "x2car/camera/grey_image.hpp"
+#include "x2car/core/options_check.hpp"
+
+namespace x2car::camera {
+
+void FacingCheckOptions::Check() const {
+  const OptionsCheck check("FacingCheckOptions");
+  check.at_least("frame_pairs", frame_pairs, 1.0);
+  check.at_least("corners_per_pair", corners_per_pair, 8.0);
+  check.positive("min_radial_flow_px", min_radial_flow_px);
+  check.in_range("min_distance_from_vanishing_point", min_distance_from_vanishing_point, 0.0, 1.0);
+  check.at_least("min_moving_pairs", min_moving_pairs, 1.0);
+  check.in_range("min_agreement", min_agreement, 0.5, 1.0, Bounds::kOpenMin);
+}
+
+namespace {
+
+// Corners tracked from `earlier` to `later` and back within this [px] are kept.
+constexpr float kMaxRoundTripPx = 1.0F;
+
+// The median displacement of the corners along the rays from the vanishing point [px] (+: out of
+// it), nullopt when fewer than 8 corners were tracked.
+std::optional<double> median_radial_flow(const cv::Mat& earlier, const cv::Mat& later,
+                                         const core::CameraIntrinsics& intrinsics,
+                                         const Eigen::Vector2d& vanishing_point_px,
+                                         const cv::Mat& ignored_region,
+                                         const FacingCheckOptions& options) {
+  cv::Mat usable;
+  if (!ignored_region.empty()) usable = ignored_region == 0;
+  std::vector<cv::Point2f> corners;
+  cv::goodFeaturesToTrack(earlier, corners, options.corners_per_pair, 0.01, 8.0, usable);
+  if (corners.size() < 8) return std::nullopt;
+  std::vector<cv::Point2f> tracked;
+  std::vector<cv::Point2f> back;
+  std::vector<unsigned char> found;
+  std::vector<unsigned char> found_back;
+  std::vector<float> error;
+  const cv::Size window(21, 21);
+  cv::calcOpticalFlowPyrLK(earlier, later, corners, tracked, found, error, window, 3);
+  cv::calcOpticalFlowPyrLK(later, earlier, tracked, back, found_back, error, window, 3);
+  const double min_distance = options.min_distance_from_vanishing_point * intrinsics.width;
+  std::vector<double> radial;
+  radial.reserve(corners.size());
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    if (!found[i] || !found_back[i]) continue;
+    const cv::Point2f round_trip = back[i] - corners[i];
+    if (std::hypot(round_trip.x, round_trip.y) > kMaxRoundTripPx) continue;
+    // Undistorted, where the vanishing point and straight rays live.
+    const Eigen::Vector2d from = core::undistort_pixel(intrinsics, {corners[i].x, corners[i].y});
+    const Eigen::Vector2d to = core::undistort_pixel(intrinsics, {tracked[i].x, tracked[i].y});
+    const Eigen::Vector2d ray = from - vanishing_point_px;
+    if (!ray.allFinite() || !to.allFinite() || ray.norm() < min_distance) continue;
+    radial.push_back((to - from).dot(ray.normalized()));
+  }
+  if (radial.size() < 8) return std::nullopt;
+  const auto middle = radial.begin() + static_cast<std::ptrdiff_t>(radial.size() / 2);
+  std::nth_element(radial.begin(), middle, radial.end());
+  return *middle;
+}
+
+}  // namespace
+
+FacingCheck check_facing(const std::function<cv::Mat(std::size_t)>& read,
+                         const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
+                         const core::CameraIntrinsics& intrinsics,
+                         const Eigen::Vector2d& vanishing_point_px, const cv::Mat& ignored_region,
+                         const FacingCheckOptions& options) {
+  options.Check();
+  FacingCheck check;
+  const std::size_t wanted = std::min(pairs.size(), static_cast<std::size_t>(options.frame_pairs));
+  for (std::size_t k = 0; k < wanted; ++k) {
+    // Evenly over the pairs offered, in their order.
+    const std::size_t index = wanted == 1 ? 0 : k * (pairs.size() - 1) / (wanted - 1);
+    const auto [earlier_index, later_index] = pairs[index];
+    const cv::Mat earlier = read(earlier_index);
+    const cv::Mat later = read(later_index);
+    ++check.pairs;
+    if (earlier.empty() || later.empty()) continue;
+    const std::optional<double> flow = median_radial_flow(grey_8bit(earlier), grey_8bit(later),
+                                                          intrinsics,
+                                                          vanishing_point_px, ignored_region,
+                                                          options);
+    if (!flow || std::abs(*flow) < options.min_radial_flow_px) continue;
+    ++(*flow > 0.0 ? check.expanding : check.contracting);
+  }
+  const std::size_t moving = check.expanding + check.contracting;
+  if (moving < static_cast<std::size_t>(options.min_moving_pairs)) {
+    check.facing = Facing::kUndecided;
+  } else if (static_cast<double>(check.expanding) >=
+             options.min_agreement * static_cast<double>(moving)) {
+    check.facing = Facing::kAhead;
+  } else if (static_cast<double>(check.contracting) >=
+             options.min_agreement * static_cast<double>(moving)) {
+    check.facing = Facing::kBack;
+  } else {
+    check.facing = Facing::kConflicting;
+  }
+  return check;
+}
+
+}  // namespace x2car::camera
