@@ -122,9 +122,13 @@ void use_learned_estimator(const std::string& model_path, const core::CameraIntr
 int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
   // Every file named on the command line is an input; those found beside the images are checked
   // once found (below).
+  // A drive folder's GNSS/INS log, found before any input is read.
+  const std::string ins_log =
+      arguments.ins_path.empty() ? std::string() : ins_log_of(arguments.ins_path).string();
   check_output_arguments(arguments.output,
                          {{{"--input", arguments.input_path},
                            {"--ins", arguments.ins_path},
+                           {"--ins", ins_log},
                            {"--intrinsics", arguments.intrinsics_path},
                            {"--mask", arguments.mask == kNoMask ? std::string() : arguments.mask},
                            {"--model", arguments.model_path},
@@ -209,11 +213,8 @@ int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
   if (arguments.estimator == kLearnedEstimator) {
     use_learned_estimator(arguments.model_path, intrinsics, options);
   }
-  if (!arguments.ins_path.empty()) {
-    // A drive folder's log is an input too.
-    const fs::path ins_log = ins_log_of(arguments.ins_path);
-    check_output_arguments(arguments.output, {{{"--ins", ins_log.string()}}});
-    frames.motion = camera_motion_from_log(ins_log.string(), frames, arguments.bag.ins_topic);
+  if (!ins_log.empty()) {
+    frames.motion = camera_motion_from_log(ins_log, frames, arguments.bag.ins_topic);
   }
   ProgressBar progress("frames", spdlog::should_log(spdlog::level::info));
   options.progress = progress.callback();

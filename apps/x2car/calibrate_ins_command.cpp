@@ -63,9 +63,11 @@ ins::InsCalibrationOptions calibration_options(const CalibrateInsArguments& argu
 }
 
 int run_calibrate_ins(const CalibrateInsArguments& arguments) {
-  check_output_arguments(arguments.output, {{{"--input", arguments.input_path}}});
-  const io::InsLog log =
-      io::read_ins_log(ins_log_of(arguments.input_path), read_options(arguments));
+  // A drive folder's log is an input too.
+  const std::filesystem::path log_path = ins_log_of(arguments.input_path);
+  check_output_arguments(arguments.output,
+                         {{{"--input", arguments.input_path}, {"--input", log_path.string()}}});
+  const io::InsLog log = io::read_ins_log(log_path, read_options(arguments));
   for (const std::string& notice : log.notices) spdlog::warn("{}", notice);
   spdlog::info("read {} GNSS/INS samples ({}) from {}", log.records.size(),
                io::to_string(log.format), arguments.input_path);

@@ -64,16 +64,16 @@ io::RadarReadOptions read_options(const CalibrateRadarArguments& arguments) {
 }
 
 int run_calibrate_radar(const CalibrateRadarArguments& arguments) {
-  check_output_arguments(arguments.output,
-                         {{{"--input", arguments.input_path}, {"--ins", arguments.ins_path}}});
+  // A drive folder's GNSS/INS log is an input too, found before any input is read.
+  const std::filesystem::path ins_log_path = ins_log_of(arguments.ins_path);
+  check_output_arguments(arguments.output, {{{"--input", arguments.input_path},
+                                             {"--ins", arguments.ins_path},
+                                             {"--ins", ins_log_path.string()}}});
   check_topic_needs_bag(arguments.input_path, arguments.bag);
   const io::RadarReadOptions radar_options = read_options(arguments);
   const io::RadarLog radar_log = io::read_radar(arguments.input_path, radar_options);
   io::InsReadOptions ins_options;
   ins_options.topic = arguments.bag.ins_topic_or_none();
-  // A drive folder's log is an input too.
-  const std::filesystem::path ins_log_path = ins_log_of(arguments.ins_path);
-  check_output_arguments(arguments.output, {{{"--ins", ins_log_path.string()}}});
   const io::InsLog ins_log = io::read_ins_log(ins_log_path, ins_options);
   for (const std::string& notice : radar_log.notices) spdlog::warn("{}", notice);
   for (const std::string& notice : ins_log.notices) spdlog::warn("{}", notice);

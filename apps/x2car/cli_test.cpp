@@ -1080,6 +1080,19 @@ TEST(CalibrateIns, FindsTheLogInADriveFolder) {
                 .exit_code,
             0);
   EXPECT_EQ(io::read_text_file(from_folder), io::read_text_file(from_file));
+  // The log a manifest names outside its folder is an input too: an output that is it was
+  // written over before (only the folder was checked).
+  const auto manifest_drive = folder / "manifest_drive";
+  std::filesystem::create_directories(manifest_drive);
+  io::write_text_file(manifest_drive / "x2car.yaml",
+                      "sensors:\n  gnss: {type: ins, input: ../ins/novatel_enu.csv}\n");
+  const auto log = folder / "ins" / "novatel_enu.csv";
+  const std::string log_text = io::read_text_file(log);
+  const CliRun over_log =
+      run_x2car("calibrate ins --input " + manifest_drive.string() + " --out " + log.string());
+  EXPECT_EQ(over_log.exit_code, 2) << over_log.output;
+  EXPECT_THAT(over_log.output, HasSubstr("never writes over the data it reads"));
+  EXPECT_EQ(io::read_text_file(log), log_text);
   // A vendor's header read through --columns: the same result as x2car's own names.
   std::string csv = io::read_text_file(folder / "ins" / "ins.csv");
   const std::string header = "time,x,y,z,vx,vy,vz,roll,pitch,yaw\n";

@@ -21,8 +21,9 @@ std::filesystem::path ins_log_of(const std::filesystem::path& input) {
                      "the drive folder has no GNSS/INS log (ins/novatel_enu.csv, "
                      "or a sensor of type ins in x2car.yaml)");
   }
-  spdlog::info("the drive's GNSS/INS log: {}", folder.ins_log->string());
-  return *folder.ins_log;
+  const std::filesystem::path log = folder.ins_log->lexically_normal();
+  spdlog::info("the drive's GNSS/INS log: {}", log.string());
+  return log;
 }
 
 }  // namespace x2car::cli

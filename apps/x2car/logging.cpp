@@ -3,6 +3,7 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include <cstdlib>
 #include <opencv2/core/utils/logger.hpp>
 
 namespace x2car::cli {
@@ -22,6 +23,10 @@ void configure_logging(int verbosity) {
   // words and naming the file. Its messages show with -v.
   cv::utils::logging::setLogLevel(verbosity >= 1 ? cv::utils::logging::LOG_LEVEL_WARNING
                                                  : cv::utils::logging::LOG_LEVEL_SILENT);
+  // FFmpeg logs through its own channel ("[mjpeg @ 0x...] overread 8" for a cut video, "moov atom
+  // not found" for a file that is not one), which OpenCV sets once, from this variable, when it
+  // first opens a video: quiet too, unless -v or the user's own setting.
+  if (verbosity < 1) setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", 0);
 }
 
 }  // namespace x2car::cli

@@ -812,21 +812,24 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
   result.pitch_std = estimate.standard_error.pitch;
   if (estimate.vehicle_motion_windows < estimate.windows) {
     // The car's acceleration is unknown in some windows: the body's pitch on its suspension may
-    // be in their means (options). With `--ins` over only part of the drive, the floor is the
-    // share of windows without it: their common pitch moves the mean by that share at most.
+    // be in their means (options). With `--ins` over only part of the drive, the floor is scaled
+    // by the share of the pitch's weighted mean those windows carry: a pitch they share moves the
+    // mean by that share.
     const std::size_t unknown_windows = estimate.windows - estimate.vehicle_motion_windows;
-    const double pitch_floor = options.unknown_motion_pitch_floor *
-                               static_cast<double>(unknown_windows) /
-                               static_cast<double>(estimate.windows);
+    const double pitch_floor =
+        options.unknown_motion_pitch_floor * estimate.pitch_weight_without_vehicle_motion;
     result.pitch_std = std::hypot(*result.pitch_std, pitch_floor);
     result.diagnostics["unknown_motion_pitch_floor_deg"] = deg_from_rad(pitch_floor);
     if (!frames.motion.empty()) {
       append_reason(
           result,
           fmt::format("pitch without the car's motion in {} of the {} steady windows (--ins "
-                      "covers only part of the drive): a steady acceleration pitches the body, "
-                      "and the pitch's standard error includes {:.2g} deg for it",
-                      unknown_windows, estimate.windows, deg_from_rad(pitch_floor)));
+                      "covers only part of the drive; {:.0f} % of the pitch's weight): a steady "
+                      "acceleration pitches the body, and the pitch's standard error includes "
+                      "{:.2g} deg for it",
+                      unknown_windows, estimate.windows,
+                      100.0 * estimate.pitch_weight_without_vehicle_motion,
+                      deg_from_rad(pitch_floor)));
     } else if (estimate.motion_known_windows == estimate.windows) {
       append_reason(
           result,

@@ -136,7 +136,8 @@ struct CameraCalibrationOptions {
   // frames are gated (`accelerating`) and it is not added. Under auto the images' motion gates
   // whole windows (TemporalFilterOptions::max_window_yaw_rate), but it reads the acceleration at
   // an assumed camera height, and it is still added. With the motion of only some frames (an
-  // `--ins` log over part of the drive), it is scaled by the share of windows without it.
+  // `--ins` log over part of the drive), it is scaled by the share of the pitch's weighted mean
+  // that the windows without it carry.
   double unknown_motion_pitch_floor = rad_from_deg(0.15);
   // Whether the camera looks ahead or back, from the images' motion (facing_check.hpp), for the
   // vanishing-point methods (geometric, auto, an estimator's): the vanishing point of the road

@@ -85,10 +85,9 @@ FacingCheck check_facing(const std::function<cv::Mat(std::size_t)>& read,
     const cv::Mat later = read(later_index);
     ++check.pairs;
     if (earlier.empty() || later.empty()) continue;
-    const std::optional<double> flow = median_radial_flow(grey_8bit(earlier), grey_8bit(later),
-                                                          intrinsics,
-                                                          vanishing_point_px, ignored_region,
-                                                          options);
+    const std::optional<double> flow =
+        median_radial_flow(grey_8bit(earlier), grey_8bit(later), intrinsics, vanishing_point_px,
+                           ignored_region, options);
     if (!flow || std::abs(*flow) < options.min_radial_flow_px) continue;
     ++(*flow > 0.0 ? check.expanding : check.contracting);
   }

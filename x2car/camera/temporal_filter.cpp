@@ -325,6 +325,7 @@ FilterEstimate TemporalFilter::current() const {
     const double reference = windows_.front().mean.*angle;
     double weighted = 0.0;
     double weight_sum = 0.0;
+    double weight_without_vehicle_motion = 0.0;
     values.clear();
     for (const FilterWindow& window : windows_) {
       const double spread = window.std.*angle;
@@ -333,9 +334,13 @@ FilterEstimate TemporalFilter::current() const {
       const double offset = angle_difference(window.mean.*angle, reference);
       weighted += weight * offset;
       weight_sum += weight;
+      if (!window.vehicle_motion_known) weight_without_vehicle_motion += weight;
       values.push_back(offset);
     }
     estimate.angles.*angle = wrap_angle(reference + weighted / weight_sum);
+    if (angle == &EulerAngles::pitch) {
+      estimate.pitch_weight_without_vehicle_motion = weight_without_vehicle_motion / weight_sum;
+    }
     const double floor = options_.standard_error_floor.*angle;
     estimate.standard_error.*angle =
         windows_.size() >= 2

@@ -192,6 +192,8 @@ struct FilterEstimate {
   std::size_t motion_known_windows = 0;
   // Windows whose every frame had a VehicleMotion (FilterWindow::vehicle_motion_known).
   std::size_t vehicle_motion_windows = 0;
+  // The share of the pitch's weighted mean that the windows without it carry, in [0, 1].
+  double pitch_weight_without_vehicle_motion = 0.0;
   // Times a steady window was refused by the image motion gate: turning, accelerating (a window
   // slides on by a frame after a refusal, so one curve counts many times).
   std::size_t windows_refused_turning = 0;

@@ -136,36 +136,33 @@ VideoScan scan_video(const std::filesystem::path& path) {
   return scan;
 }
 
-// Frames a decoder may still hold when the file ends (B-frame reordering and FFmpeg's frame
-// threads, at most 16 of them for H.264): OpenCV 4.6 returns those without a time.
-constexpr std::size_t kMaxFlushedFrames = 32;
+}  // namespace
 
-// The frames' times from the container's, from 0 at the first, when they can time the frames:
-// finite and strictly increasing, but for at most kMaxFlushedFrames at the end that read no time
-// (0, or not after the one before), which are spaced by the median interval before them. Else
-// nullopt (a stream without presentation times reads 0 at every frame). `flushed`: those frames.
-std::optional<std::vector<double>> container_times(const std::vector<double>& times_s,
-                                                   std::size_t& flushed) {
-  std::size_t increasing = 0;  // the frames of the strictly increasing start
-  while (increasing < times_s.size() && std::isfinite(times_s[increasing]) &&
-         (increasing == 0 || times_s[increasing] > times_s[increasing - 1])) {
-    ++increasing;
+std::optional<std::vector<double>> frame_times_from_container(const std::vector<double>& times_s,
+                                                              std::size_t& flushed) {
+  std::size_t timed = times_s.size();
+  while (timed > 0 && times_s[timed - 1] == 0.0) --timed;
+  flushed = times_s.size() - timed;
+  if (timed < 2) return std::nullopt;
+  for (std::size_t i = 0; i < timed; ++i) {
+    if (!std::isfinite(times_s[i]) || (i > 0 && !(times_s[i] > times_s[i - 1]))) {
+      return std::nullopt;
+    }
   }
-  flushed = times_s.size() - increasing;
-  if (increasing < 3 || flushed > kMaxFlushedFrames) return std::nullopt;
-  std::vector<double> times(times_s.begin(),
-                            times_s.begin() + static_cast<std::ptrdiff_t>(increasing));
+  std::vector<double> times(times_s.begin(), times_s.begin() + static_cast<std::ptrdiff_t>(timed));
   for (double& time : times) time -= times_s.front();
-  std::vector<double> intervals;
-  intervals.reserve(times.size() - 1);
-  for (std::size_t i = 1; i < times.size(); ++i) intervals.push_back(times[i] - times[i - 1]);
-  std::nth_element(intervals.begin(),
-                   intervals.begin() + static_cast<std::ptrdiff_t>(intervals.size() / 2),
-                   intervals.end());
-  const double median_interval_s = intervals[intervals.size() / 2];
-  while (times.size() < times_s.size()) times.push_back(times.back() + median_interval_s);
+  if (flushed > 0) {
+    std::vector<double> intervals;
+    intervals.reserve(times.size() - 1);
+    for (std::size_t i = 1; i < times.size(); ++i) intervals.push_back(times[i] - times[i - 1]);
+    const auto middle = intervals.begin() + static_cast<std::ptrdiff_t>(intervals.size() / 2);
+    std::nth_element(intervals.begin(), middle, intervals.end());
+    while (times.size() < times_s.size()) times.push_back(times.back() + *middle);
+  }
   return times;
 }
+
+namespace {
 
 std::vector<double> times_from_rate(std::size_t count, double rate_hz) {
   std::vector<double> times;
@@ -191,15 +188,19 @@ VideoFrames camera_frames_from_video(const std::filesystem::path& path,
     frames.times = io::read_timestamps_file(*options.timestamps);
     if (frames.times.size() != scan.frames) {
       throw InputError(options.timestamps->string(),
-                       fmt::format("holds {} timestamps but {} has {} frames", frames.times.size(),
-                                   path.string(), scan.frames));
+                       fmt::format("holds {} timestamps but {} has {} frames{}",
+                                   frames.times.size(), path.string(), scan.frames,
+                                   scan.container_frames > scan.frames
+                                       ? fmt::format(" (its container lists {}: truncated?)",
+                                                     scan.container_frames)
+                                       : std::string()));
     }
     video.time_source = fmt::format("the timestamps file {}", options.timestamps->string());
   } else if (options.frame_rate_hz) {
     frames.times = times_from_rate(scan.frames, *options.frame_rate_hz);
     video.time_source = fmt::format("the frame rate given, {:g} Hz", *options.frame_rate_hz);
-  } else if (std::size_t flushed = 0;
-             std::optional<std::vector<double>> times = container_times(scan.times_s, flushed)) {
+  } else if (std::size_t flushed = 0; std::optional<std::vector<double>> times =
+                                          frame_times_from_container(scan.times_s, flushed)) {
     // From 0 at the first frame, as the other sources without a timestamps file.
     frames.times = std::move(*times);
     video.time_source = flushed == 0
@@ -227,7 +228,7 @@ VideoFrames camera_frames_from_video(const std::filesystem::path& path,
           path.string(), rate_hz));
     }
   }
-  if (scan.frames == 1) {
+  if (scan.frames == 1 && scan.container_frames <= 1) {
     video.notes.push_back(fmt::format(
         "{}: holds a single frame (an image with a video's name?); calibrating needs a drive",
         path.string()));
@@ -236,9 +237,16 @@ VideoFrames camera_frames_from_video(const std::filesystem::path& path,
     video.mean_frame_rate_hz =
         static_cast<double>(frames.times.size() - 1) / (frames.times.back() - frames.times.front());
   }
-  // A container's count is an estimate in some formats (a frame or so off); one that is well above
-  // the frames decoded means decoding stopped early.
-  if (scan.container_frames > scan.frames + std::max<std::size_t>(2, scan.container_frames / 50)) {
+  // A container's count is an estimate in some formats (a frame or so off; Matroska's is its
+  // duration times the nominal rate, which for a variable rate is the time base's): trusted only
+  // when the nominal rate is the frames' own, and then one well above the frames decoded means
+  // decoding stopped early.
+  const bool nominal_rate_holds =
+      scan.nominal_rate_hz > 0.0 && scan.nominal_rate_hz <= kMaxPlausibleFrameRateHz &&
+      (scan.frames < 3 ||
+       std::abs(scan.nominal_rate_hz - video.mean_frame_rate_hz) <= 0.05 * scan.nominal_rate_hz);
+  if (nominal_rate_holds &&
+      scan.container_frames > scan.frames + std::max<std::size_t>(2, scan.container_frames / 50)) {
     video.notes.push_back(
         fmt::format("{}: decoding stopped after {} of the {} frames the container lists (the file "
                     "is truncated or corrupt from frame {} on); calibrating those {}",

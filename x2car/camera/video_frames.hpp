@@ -59,6 +59,16 @@ struct VideoFrames {
 VideoFrames camera_frames_from_video(const std::filesystem::path& path,
                                      const VideoFrameOptions& options = {});
 
+// The frames' times from their presentation times in the container [s], from 0 at the first, when
+// they can time the frames: finite and strictly increasing, but for the frames at the end that
+// read exactly 0, which the decoder held back (B-frame reordering, one per FFmpeg frame thread: as
+// many as the machine's cores) and OpenCV 4.6 returns without a time; those are spaced by the
+// median interval before them (`flushed`: how many). Else nullopt: a stream without presentation
+// times (0 at every frame), fewer than 2 timed frames, or a time that repeats or goes back
+// (re-spacing what follows would shift it).
+std::optional<std::vector<double>> frame_times_from_container(
+    const std::vector<double>& presentation_times_s, std::size_t& flushed);
+
 // Whether a path names a video file by its extension (mp4, avi, mkv, mov, webm, m4v; any case).
 bool is_video_file(const std::filesystem::path& path);
 

@@ -2,10 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <opencv2/core.hpp>
 #include <opencv2/videoio.hpp>
+#include <optional>
+#include <vector>
 
 #include "x2car/camera/camera_test_support.hpp"
 #include "x2car/core/error.hpp"
@@ -118,24 +121,50 @@ TEST(VideoFrames, TimestampsFileAndFrameRate) {
   EXPECT_THROW(camera_frames_from_video(video, options), std::invalid_argument);
 }
 
-// An H.264 MP4 (the common camera video): the decoder gives its last frames, held for reordering,
-// without a time; they are spaced as the frames before, and the times need no note.
+// An H.264 MP4 (the common camera video): the decoder gives its last frames, held for reordering
+// (one per frame thread, as many as the machine's cores), without a time; they are spaced as the
+// frames before, and the times need no note.
 TEST(VideoFrames, TimesAnH264VideoByItsFramesTimes) {
-  const fs::path path = temp_path("street_h264.mp4");
-  const core::CameraIntrinsics kitti = even_kitti();
+  const fs::path path = temp_path("moving_h264.mp4");
   cv::VideoWriter writer(path.string(), cv::CAP_FFMPEG, cv::VideoWriter::fourcc('a', 'v', 'c', '1'),
-                         12.5, cv::Size(kitti.width, kitti.height), false);
+                         12.5, cv::Size(320, 240), false);
   if (!writer.isOpened()) GTEST_SKIP() << "this OpenCV writes no H.264";
-  for (std::size_t i = 0; i < 30; ++i) writer.write(street_frame(i));
+  constexpr std::size_t kFrames = 300;
+  for (std::size_t i = 0; i < kFrames; ++i) {
+    cv::Mat frame(240, 320, CV_8UC1, cv::Scalar(60));
+    cv::circle(frame, {static_cast<int>(i % 300), 120}, 30, cv::Scalar(220), -1);
+    writer.write(frame);
+  }
   writer.release();
   const VideoFrames video = camera_frames_from_video(path);
-  ASSERT_EQ(video.source.times.size(), 30U);
-  for (std::size_t i = 0; i < 30; ++i) {
+  ASSERT_EQ(video.source.times.size(), kFrames);
+  for (std::size_t i = 0; i < kFrames; ++i) {
     EXPECT_NEAR(video.source.times[i], 0.08 * static_cast<double>(i), 1e-6) << i;
   }
   EXPECT_EQ(video.time_source.rfind("the video's frame times", 0), 0U) << video.time_source;
   EXPECT_NEAR(video.mean_frame_rate_hz, 12.5, 1e-6);
   EXPECT_TRUE(video.notes.empty());
+}
+
+// The container's times: the trailing frames that read 0 are re-spaced, however many (an H.264
+// decoder with 40 threads holds 40); a time that repeats or goes back is not re-spaced, which
+// would shift every later frame (nullopt: the nominal rate and a note).
+TEST(VideoFrames, FrameTimesFromTheContainer) {
+  std::size_t flushed = 0;
+  std::vector<double> read = {5.0, 5.1, 5.2};
+  read.resize(43, 0.0);
+  const std::optional<std::vector<double>> respaced = frame_times_from_container(read, flushed);
+  ASSERT_TRUE(respaced.has_value());
+  EXPECT_EQ(flushed, 40U);
+  EXPECT_NEAR(respaced->back(), 4.2, 1e-9);
+  EXPECT_TRUE(frame_times_from_container({0.0, 0.1}, flushed).has_value());  // two frames
+  EXPECT_FALSE(frame_times_from_container({0.0, 0.1, 0.1, 0.3, 0.0}, flushed).has_value());
+  EXPECT_FALSE(frame_times_from_container({0.0, 0.2, 0.1, 0.3}, flushed).has_value());
+  EXPECT_FALSE(frame_times_from_container({0.0, 0.0, 0.0}, flushed).has_value());
+  EXPECT_FALSE(frame_times_from_container({0.0, NAN, 0.3}, flushed).has_value());
+  // A variable rate keeps its times.
+  EXPECT_EQ(frame_times_from_container({1.0, 1.1, 1.15, 1.3}, flushed),
+            (std::vector<double>{0.0, 1.1 - 1.0, 1.15 - 1.0, 1.3 - 1.0}));
 }
 
 // A video cut short (a recording that stopped, a copy that did not finish) decodes fewer frames
