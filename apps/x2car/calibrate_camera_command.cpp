@@ -41,6 +41,7 @@ struct CalibrateCameraArguments {
   std::optional<int> camera_index;
   bool unrectified = false;
   std::string estimator;
+  std::string facing;
   std::string model_path;
   std::optional<int> window_frames;
   std::optional<double> max_window_std_deg;
@@ -61,6 +62,9 @@ camera::CameraCalibrationOptions calibration_options(const CalibrateCameraArgume
   camera::CameraCalibrationOptions options;
   if (!arguments.estimator.empty() && arguments.estimator != kLearnedEstimator) {
     options.method = enum_from_string(camera::kCameraMethodNames, arguments.estimator, "estimator");
+  }
+  if (!arguments.facing.empty()) {
+    options.facing = enum_from_string(camera::kCameraFacingNames, arguments.facing, "facing");
   }
   if (arguments.window_frames) options.filter.window_frames = *arguments.window_frames;
   if (arguments.max_window_std_deg) {
@@ -287,6 +291,13 @@ RunCommand setup_calibrate_camera_command(CLI::App& command) {
         return names;
       }()))
       ->default_str(camera::to_string(defaults.method));
+  command
+      .add_option("--facing", arguments->facing,
+                  "Which way the camera looks along the car: auto (from the images' motion: the "
+                  "scene flows out of the road's vanishing point ahead, into it behind), ahead, "
+                  "or back (a rear camera; its yaw is the vanishing point's turned by 180 deg)")
+      ->check(CLI::IsMember(enum_names(camera::kCameraFacingNames)))
+      ->default_str(enum_to_string(camera::kCameraFacingNames, defaults.facing));
   command
       .add_option(
           "--model", arguments->model_path,

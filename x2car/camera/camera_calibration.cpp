@@ -28,7 +28,11 @@ void CameraCalibrationOptions::Check() const {
   if (!estimator && method != CameraMethod::kMotion) geometric.Check();
   if (!estimator && method != CameraMethod::kGeometric) motion.Check();
   check.positive("max_pair_gap_s", max_pair_gap_s);
-  if (check_facing) facing.Check();
+  if (facing == CameraFacing::kFromMotion) {
+    facing_check.Check();
+    check.positive("facing_pair_interval_s", facing_pair_interval_s);
+    check.at_least("facing_pair_max_gap_s", facing_pair_max_gap_s, facing_pair_interval_s);
+  }
   check.at_least("noisy_estimator_block_frames", noisy_estimator_block_frames, 1);
   check.at_least("estimator_min_windows", estimator_min_windows, 1);
   check.at_least("estimator_standard_error_floor", estimator_standard_error_floor, 0.0);
@@ -640,19 +644,45 @@ IgnoredRegion find_ignored_region(const CameraFrameSource& frames,
 // yaw is turned by 180 deg: R_V_B -> Rz(pi) R_V_B reverses the car's x and y axes in the camera
 // and keeps its z, so roll and pitch keep their values (the per-frame yaws alike). Returns the
 // reason to mark the result unreliable when the moving pairs disagree.
-std::optional<std::string> settle_facing(const std::vector<FilterWindow>& windows,
-                                         FrameReader& reader,
-                                         const core::CameraIntrinsics& intrinsics,
-                                         const cv::Mat& ignored_region,
-                                         const FacingCheckOptions& options,
-                                         CalibrationResult& result) {
+std::optional<std::string> settle_facing(
+    const CameraFrameSource& frames, const std::vector<FilterWindow>& windows, FrameReader& reader,
+    const core::CameraIntrinsics& intrinsics, const cv::Mat& ignored_region,
+    const CameraCalibrationOptions& options, CalibrationResult& result) {
+  const auto turn_back = [&result]() {
+    result.yaw = wrap_angle(*result.yaw + kPi);
+    for (Series& series : result.series) {
+      if (series.name != "frame_yaw" && series.name != "frame_road_plane_yaw") continue;
+      for (double& yaw : series.value) yaw = wrap_angle(yaw + kPi);
+    }
+  };
+  if (options.facing == CameraFacing::kAhead) return std::nullopt;
+  if (options.facing == CameraFacing::kBack) {
+    turn_back();
+    append_reason(result,
+                  "the camera looks back (given): its yaw is the vanishing point's turned "
+                  "by 180 deg");
+    return std::nullopt;
+  }
   const std::optional<VanishingGeometry> geometry = vanishing_geometry_from_rotation(
       rotation_from_euler({*result.roll, *result.pitch, *result.yaw}), intrinsics.camera_matrix());
   if (!geometry) return std::nullopt;
+  // Each frame with the first of its window far enough on that the travel outgrows the camera's
+  // own jitter, when that is not too far on to track.
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
   for (const FilterWindow& window : windows) {
-    for (std::size_t i = window.first_frame; i < window.last_frame; ++i)
-      pairs.emplace_back(i, i + 1);
+    std::size_t later = window.first_frame;
+    for (std::size_t i = window.first_frame; i < window.last_frame; ++i) {
+      later = std::max(later, i + 1);
+      while (later < window.last_frame &&
+             frames.times[later] - frames.times[i] < options.facing_pair_interval_s - 1e-6) {
+        ++later;
+      }
+      const double gap_s = frames.times[later] - frames.times[i];
+      if (gap_s >= options.facing_pair_interval_s - 1e-6 &&
+          gap_s <= options.facing_pair_max_gap_s) {
+        pairs.emplace_back(i, later);
+      }
+    }
   }
   const auto read = [&reader](std::size_t index) {
     try {
@@ -661,8 +691,8 @@ std::optional<std::string> settle_facing(const std::vector<FilterWindow>& window
       return cv::Mat();  // an unreadable image (skip_bad_images) does not vote
     }
   };
-  const FacingCheck check =
-      check_facing(read, pairs, intrinsics, geometry->vanishing_point_px, ignored_region, options);
+  const FacingCheck check = check_facing(read, pairs, intrinsics, geometry->vanishing_point_px,
+                                         ignored_region, options.facing_check);
   result.support["facing_pairs_flowing_out"] = static_cast<std::int64_t>(check.expanding);
   result.support["facing_pairs_flowing_in"] = static_cast<std::int64_t>(check.contracting);
   const std::size_t moving = check.expanding + check.contracting;
@@ -670,11 +700,7 @@ std::optional<std::string> settle_facing(const std::vector<FilterWindow>& window
     case Facing::kAhead:
       return std::nullopt;
     case Facing::kBack:
-      result.yaw = wrap_angle(*result.yaw + kPi);
-      for (Series& series : result.series) {
-        if (series.name != "frame_yaw" && series.name != "frame_road_plane_yaw") continue;
-        for (double& yaw : series.value) yaw = wrap_angle(yaw + kPi);
-      }
+      turn_back();
       append_reason(result,
                     fmt::format("the camera looks back: the scene flowed into the road's vanishing "
                                 "point in {} of the {} moving frame pairs, so its yaw is the "
@@ -683,7 +709,8 @@ std::optional<std::string> settle_facing(const std::vector<FilterWindow>& window
       return std::nullopt;
     case Facing::kUndecided:
       append_reason(result, fmt::format("taken as looking ahead: only {} of {} frame pairs moved "
-                                        "enough to tell a camera that looks back",
+                                        "enough to tell whether the camera looks ahead or back "
+                                        "(--facing says it)",
                                         moving, check.pairs));
       return std::nullopt;
     case Facing::kConflicting:
@@ -857,6 +884,15 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
                               "share, is in each standard error as {:.2g} deg",
                               result.method, deg_from_rad(options.estimator_standard_error_floor)));
   }
+  // Before the windows' agreement is judged: an unreliable result keeps its angles, and a rear
+  // camera's yaw must be turned in it too.
+  const bool vanishing_point_method = options.estimator || options.method != CameraMethod::kMotion;
+  if (vanishing_point_method) {
+    if (const std::optional<std::string> conflict = settle_facing(
+            frames, filter.windows(), reader, intrinsics, ignored.region, options, result)) {
+      return mark_unreliable(std::move(result), *conflict);
+    }
+  }
   const EulerAngles spread = window_spread(filter.windows());
   result.diagnostics["window_spread_roll_deg"] = deg_from_rad(spread.roll);
   result.diagnostics["window_spread_pitch_deg"] = deg_from_rad(spread.pitch);
@@ -869,13 +905,6 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
                     "{:.3f}, yaw {:.3f} deg (at most {:.3f} deg)",
                     estimate.windows, deg_from_rad(spread.roll), deg_from_rad(spread.pitch),
                     deg_from_rad(spread.yaw), deg_from_rad(options.max_window_disagreement)));
-  }
-  const bool vanishing_point_method = options.estimator || options.method != CameraMethod::kMotion;
-  if (options.check_facing && vanishing_point_method) {
-    if (const std::optional<std::string> conflict = settle_facing(
-            filter.windows(), reader, intrinsics, ignored.region, options.facing, result)) {
-      return mark_unreliable(std::move(result), *conflict);
-    }
   }
   if (ignored.detected) {
     append_reason(result, fmt::format("what stayed in view while the scene moved (the car's own "

@@ -30,6 +30,15 @@
 namespace x2car::camera {
 
 // Which per-frame estimates the calibrator makes (issue 14 item 2; docs/methods.md, camera §1-1a).
+// Which way the camera looks along the car (CameraCalibrationOptions::facing).
+enum class CameraFacing { kFromMotion, kAhead, kBack };
+
+constexpr std::array<EnumName<CameraFacing>, 3> kCameraFacingNames{{
+    {CameraFacing::kFromMotion, "auto"},
+    {CameraFacing::kAhead, "ahead"},
+    {CameraFacing::kBack, "back"},
+}};
+
 enum class CameraMethod {
   kGeometric,  // "geometric": the lines' vanishing point and the vertical vanishing point's
                //   (gravity's) horizon, from each image alone
@@ -139,13 +148,19 @@ struct CameraCalibrationOptions {
   // `--ins` log over part of the drive), it is scaled by the share of the pitch's weighted mean
   // that the windows without it carry.
   double unknown_motion_pitch_floor = rad_from_deg(0.15);
-  // Whether the camera looks ahead or back, from the images' motion (facing_check.hpp), for the
-  // vanishing-point methods (geometric, auto, an estimator's): the vanishing point of the road
-  // gives the car's x axis only up to its sign. A camera found looking back has its yaw turned by
-  // 180 deg and the note says so; moving frame pairs that disagree make the result unreliable;
-  // too few moving pairs leave it taken as looking ahead, said in the note. Off: always ahead.
-  bool check_facing = true;
-  FacingCheckOptions facing;
+  // Whether the camera looks ahead or back, for the vanishing-point methods (geometric, auto, an
+  // estimator's): the vanishing point of the road gives the car's x axis only up to its sign.
+  // kFromMotion: from the images' motion (facing_check.hpp): a camera found looking back has its
+  // yaw turned by 180 deg and the note says so; moving frame pairs that disagree make the result
+  // unreliable; too few moving pairs leave it taken as looking ahead, said in the note. kAhead,
+  // kBack: given (`--facing`), not checked.
+  CameraFacing facing = CameraFacing::kFromMotion;
+  FacingCheckOptions facing_check;
+  // The facing check pairs each frame of a steady window with the first one of the window at
+  // least facing_pair_interval_s later (at 30 Hz and walking pace the next frame's motion is
+  // within the camera's own jitter), if that is at most facing_pair_max_gap_s later [s].
+  double facing_pair_interval_s = 0.2;
+  double facing_pair_max_gap_s = 0.5;
   // A frame whose `read` throws InputError (a truncated or corrupt image) is skipped and counted
   // (rejections["unreadable_image"], the first message in `reason`). Off: the InputError ends the
   // run. An image whose size is not the intrinsics' always ends it (the wrong intrinsics).

@@ -138,13 +138,32 @@ TEST(CalibrateCamera, ACameraThatLooksBackIsFoundByTheImagesMotion) {
   EXPECT_GT(front.support.at("facing_pairs_flowing_out"), 0);
   EXPECT_EQ(front.support.at("facing_pairs_flowing_in"), 0);
 
-  // Off, the rear camera is taken as looking ahead: its yaw 180 deg away.
-  CameraCalibrationOptions unchecked = short_windows();
-  unchecked.check_facing = false;
-  const CalibrationResult assumed = calibrate_camera(drive(rear_mounting, {-0.9, 0.0, 1.2}),
-                                                     core::camera_preset("kitti"), unchecked);
+  // The rear camera's per-frame yaws are turned alike (the series for plots).
+  for (const Series& series : rear.series) {
+    if (series.name != "frame_yaw") continue;
+    ASSERT_FALSE(series.value.empty());
+    EXPECT_THAT(series.value.front(), AngleNearDeg(rear_mounting.yaw, 0.3));
+  }
+
+  // Given ahead (the old assumption), the rear camera's yaw is 180 deg away; given back, right.
+  CameraCalibrationOptions given = short_windows();
+  given.facing = CameraFacing::kAhead;
+  const CalibrationResult assumed =
+      calibrate_camera(drive(rear_mounting, {-0.9, 0.0, 1.2}), core::camera_preset("kitti"), given);
   ASSERT_TRUE(assumed.ok()) << assumed.reason;
   EXPECT_THAT(*assumed.yaw, AngleNearDeg(wrap_angle(rear_mounting.yaw + kPi), 0.1));
+  given.facing = CameraFacing::kBack;
+  const CalibrationResult told =
+      calibrate_camera(drive(rear_mounting, {-0.9, 0.0, 1.2}), core::camera_preset("kitti"), given);
+  ASSERT_TRUE(told.ok()) << told.reason;
+  EXPECT_THAT(*told.yaw, AngleNearDeg(rear_mounting.yaw, 0.1));
+  EXPECT_THAT(told.reason, ::testing::HasSubstr("looks back (given)"));
+
+  // A street that does not move (the car standing): taken as looking ahead, and said.
+  const CalibrationResult standing =
+      calibrate_camera(street_drive(24), core::camera_preset("kitti"), short_windows());
+  ASSERT_TRUE(standing.ok()) << standing.reason;
+  EXPECT_THAT(standing.reason, ::testing::HasSubstr("taken as looking ahead"));
 }
 
 // A road that keeps turning: the vanishing point wanders and no window is steady. Insufficient

@@ -17,6 +17,7 @@ void FacingCheckOptions::Check() const {
   check.at_least("frame_pairs", frame_pairs, 1.0);
   check.at_least("corners_per_pair", corners_per_pair, 8.0);
   check.positive("min_radial_flow_px", min_radial_flow_px);
+  check.non_negative("min_corner_motion_px", min_corner_motion_px);
   check.in_range("min_distance_from_vanishing_point", min_distance_from_vanishing_point, 0.0, 1.0);
   check.at_least("min_moving_pairs", min_moving_pairs, 1.0);
   check.in_range("min_agreement", min_agreement, 0.5, 1.0, Bounds::kOpenMin);
@@ -26,9 +27,11 @@ namespace {
 
 // Corners tracked from `earlier` to `later` and back within this [px] are kept.
 constexpr float kMaxRoundTripPx = 1.0F;
+// A pair votes only with this many moving corners.
+constexpr std::size_t kMinMovingCorners = 8;
 
-// The median displacement of the corners along the rays from the vanishing point [px] (+: out of
-// it), nullopt when fewer than 8 corners were tracked.
+// The median displacement of the moving corners along the rays from the vanishing point [px] (+:
+// out of it), nullopt when fewer than kMinMovingCorners were tracked.
 std::optional<double> median_radial_flow(const cv::Mat& earlier, const cv::Mat& later,
                                          const core::CameraIntrinsics& intrinsics,
                                          const Eigen::Vector2d& vanishing_point_px,
@@ -59,9 +62,12 @@ std::optional<double> median_radial_flow(const cv::Mat& earlier, const cv::Mat& 
     const Eigen::Vector2d to = core::undistort_pixel(intrinsics, {tracked[i].x, tracked[i].y});
     const Eigen::Vector2d ray = from - vanishing_point_px;
     if (!ray.allFinite() || !to.allFinite() || ray.norm() < min_distance) continue;
+    // A corner that stays (the car's own bonnet or bumper, a reflection in the windscreen, a
+    // logo) says nothing about the travel, and enough of them would hold the median at 0.
+    if ((to - from).norm() < options.min_corner_motion_px) continue;
     radial.push_back((to - from).dot(ray.normalized()));
   }
-  if (radial.size() < 8) return std::nullopt;
+  if (radial.size() < kMinMovingCorners) return std::nullopt;
   const auto middle = radial.begin() + static_cast<std::ptrdiff_t>(radial.size() / 2);
   std::nth_element(radial.begin(), middle, radial.end());
   return *middle;

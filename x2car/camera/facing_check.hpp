@@ -28,6 +28,9 @@ struct FacingCheckOptions {
   // A pair's median displacement along the rays from the vanishing point, out of it (+) or into it
   // (-), must reach this to count as moving [px]; smaller pairs (a car standing) do not vote.
   double min_radial_flow_px = 0.25;
+  // Corners that moved less than this between the two frames are left out of the median [px]:
+  // the car's own body, a reflection, a logo stay put (a pair needs 8 that moved).
+  double min_corner_motion_px = 0.1;
   // Corners nearer the vanishing point than this share of the image's width are left out: the ray
   // from it is ill-defined there and the flow small [-].
   double min_distance_from_vanishing_point = 0.05;

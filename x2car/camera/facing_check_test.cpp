@@ -58,6 +58,19 @@ TEST(FacingCheck, TheSceneFlowsOutOfTheVanishingPointAheadAndIntoItBehind) {
   EXPECT_EQ(looking_back.contracting, 5U);
 }
 
+// The car's own bonnet over the image's bottom stays put while the road moves: its corners are
+// left out of the pairs' medians (enough of them held the median at 0, and a rear camera's bumper
+// would have been taken as looking ahead).
+TEST(FacingCheck, CornersThatStayPutDoNotVote) {
+  const EulerAngles back{0.0, rad_from_deg(3.0), wrap_angle(kPi + rad_from_deg(1.0))};
+  RoadFrames frames = road_frames(back, 1.0);
+  const cv::Mat bonnet = testing::bonnet_shape(frames.images.front().size(), 0.45);
+  for (cv::Mat& image : frames.images) testing::paint_bonnet(image, bonnet);
+  const FacingCheck looking_back = check(frames, back);
+  EXPECT_EQ(looking_back.facing, Facing::kBack);
+  EXPECT_EQ(looking_back.contracting, 5U);
+}
+
 TEST(FacingCheck, ACarStandingStillDecidesNothing) {
   const EulerAngles ahead{0.0, rad_from_deg(3.0), 0.0};
   const FacingCheck standing = check(road_frames(ahead, 0.0, 4), ahead);
