@@ -654,6 +654,10 @@ std::optional<std::string> settle_facing(
       if (series.name != "frame_yaw" && series.name != "frame_road_plane_yaw") continue;
       for (double& yaw : series.value) yaw = wrap_angle(yaw + kPi);
     }
+    if (const auto guide = result.diagnostics.find("motion_guide_yaw_deg");
+        guide != result.diagnostics.end()) {
+      guide->second = deg_from_rad(wrap_angle(rad_from_deg(guide->second) + kPi));
+    }
   };
   if (options.facing == CameraFacing::kAhead) return std::nullopt;
   if (options.facing == CameraFacing::kBack) {
@@ -885,13 +889,11 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
                               result.method, deg_from_rad(options.estimator_standard_error_floor)));
   }
   // Before the windows' agreement is judged: an unreliable result keeps its angles, and a rear
-  // camera's yaw must be turned in it too.
-  const bool vanishing_point_method = options.estimator || options.method != CameraMethod::kMotion;
-  if (vanishing_point_method) {
-    if (const std::optional<std::string> conflict = settle_facing(
-            frames, filter.windows(), reader, intrinsics, ignored.region, options, result)) {
-      return mark_unreliable(std::move(result), *conflict);
-    }
+  // camera's yaw must be turned in it too. Every method reads the car's x axis in front of the
+  // camera (the motion estimator its travel's line, road_plane_motion.cpp).
+  if (const std::optional<std::string> conflict = settle_facing(
+          frames, filter.windows(), reader, intrinsics, ignored.region, options, result)) {
+    return mark_unreliable(std::move(result), *conflict);
   }
   const EulerAngles spread = window_spread(filter.windows());
   result.diagnostics["window_spread_roll_deg"] = deg_from_rad(spread.roll);

@@ -148,8 +148,8 @@ struct CameraCalibrationOptions {
   // `--ins` log over part of the drive), it is scaled by the share of the pitch's weighted mean
   // that the windows without it carry.
   double unknown_motion_pitch_floor = rad_from_deg(0.15);
-  // Whether the camera looks ahead or back, for the vanishing-point methods (geometric, auto, an
-  // estimator's): the vanishing point of the road gives the car's x axis only up to its sign.
+  // Whether the camera looks ahead or back: the vanishing point of the road (and the motion
+  // estimator's line of travel) gives the car's x axis only up to its sign.
   // kFromMotion: from the images' motion (facing_check.hpp): a camera found looking back has its
   // yaw turned by 180 deg and the note says so; moving frame pairs that disagree make the result
   // unreliable; too few moving pairs leave it taken as looking ahead, said in the note. kAhead,

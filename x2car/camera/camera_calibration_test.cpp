@@ -550,6 +550,23 @@ TEST(CalibrateCamera, MotionAloneGuidesItselfByAFirstLookAndCalibrates) {
             0U);
 }
 
+// A rear camera under the motion estimator: the car's travel points behind it, and the travel's
+// line meets the image at the road's vanishing point all the same (it was no_road_plane in every
+// frame, insufficient data); the facing check turns the yaw.
+TEST(CalibrateCamera, MotionCalibratesACameraThatLooksBack) {
+  const core::CameraIntrinsics intrinsics = core::camera_preset("kitti");
+  const EulerAngles mounting{rad_from_deg(0.8), rad_from_deg(1.5),
+                             wrap_angle(kPi + rad_from_deg(3.5))};
+  const CalibrationResult result =
+      calibrate_camera(road_drive(mounting, intrinsics), intrinsics, motion_on_road_drive());
+  ASSERT_TRUE(result.ok()) << result.reason;
+  EXPECT_THAT(*result.roll, AngleNearDeg(mounting.roll, 0.1));
+  EXPECT_THAT(*result.pitch, AngleNearDeg(mounting.pitch, 0.1));
+  EXPECT_THAT(*result.yaw, AngleNearDeg(mounting.yaw, 0.1));
+  EXPECT_THAT(result.reason, ::testing::HasSubstr("the camera looks back"));
+  EXPECT_NEAR(std::abs(result.diagnostics.at("motion_guide_yaw_deg")), 180.0 - 3.5, 0.15);
+}
+
 // Frames through a lossy codec lose the asphalt's fine grain, and a small Lucas-Kanade window then
 // follows the coding's noise; such a source is tracked with lossy_tracking_window_px (and says so).
 TEST(CalibrateCamera, MotionTracksLossyFramesWithALargerWindow) {

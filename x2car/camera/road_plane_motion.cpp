@@ -518,7 +518,11 @@ FrameEstimate fit_plane_to_tracks(const std::vector<Eigen::Vector2d>& previous_p
   const Eigen::Vector3d chord = -(motion->rotation.transpose() * motion->translation);
   const Eigen::Matrix3d half_turn =
       Eigen::AngleAxisd(-0.5 * rotation.angle(), rotation.axis()).toRotationMatrix();
-  const Eigen::Vector3d forward = motion->rotation * (half_turn * chord.normalized());
+  Eigen::Vector3d forward = motion->rotation * (half_turn * chord.normalized());
+  // A camera that looks back sees the car travel away from its view: the travel's line meets the
+  // image at the same vanishing point from behind. Its direction is taken as the one in front, as
+  // the geometric estimator's ray is; the facing check (facing_check.hpp) tells them apart.
+  if (forward.z() < 0.0) forward = -forward;
   const Eigen::Vector3d up = -(motion->rotation * motion->normal);
   const Eigen::Matrix3d camera_matrix = intrinsics.camera_matrix();
   const std::optional<Eigen::Vector3d> horizon = horizon_from_up(up, camera_matrix);
