@@ -9,6 +9,7 @@
 
 #include "x2car/camera/grey_image.hpp"
 #include "x2car/core/options_check.hpp"
+#include "x2car/core/robust_stats.hpp"
 
 namespace x2car::camera {
 
@@ -41,7 +42,7 @@ std::optional<double> median_radial_flow(const cv::Mat& earlier, const cv::Mat& 
   if (!ignored_region.empty()) usable = ignored_region == 0;
   std::vector<cv::Point2f> corners;
   cv::goodFeaturesToTrack(earlier, corners, options.corners_per_pair, 0.01, 8.0, usable);
-  if (corners.size() < 8) return std::nullopt;
+  if (corners.size() < kMinMovingCorners) return std::nullopt;
   std::vector<cv::Point2f> tracked;
   std::vector<cv::Point2f> back;
   std::vector<unsigned char> found;
@@ -68,9 +69,7 @@ std::optional<double> median_radial_flow(const cv::Mat& earlier, const cv::Mat& 
     radial.push_back((to - from).dot(ray.normalized()));
   }
   if (radial.size() < kMinMovingCorners) return std::nullopt;
-  const auto middle = radial.begin() + static_cast<std::ptrdiff_t>(radial.size() / 2);
-  std::nth_element(radial.begin(), middle, radial.end());
-  return *middle;
+  return median(radial);
 }
 
 }  // namespace

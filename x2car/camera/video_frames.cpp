@@ -12,7 +12,6 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <system_error>
 #include <utility>
@@ -21,6 +20,7 @@
 #include "x2car/camera/grey_image.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/core/options_check.hpp"
+#include "x2car/core/robust_stats.hpp"
 #include "x2car/io/file_extension.hpp"
 #include "x2car/io/timestamps_file.hpp"
 
@@ -29,10 +29,8 @@ namespace x2car::camera {
 void VideoFrameOptions::Check() const {
   const OptionsCheck check("VideoFrameOptions");
   if (frame_rate_hz) check.positive("frame_rate_hz", *frame_rate_hz);
-  if (frame_rate_hz && timestamps) {
-    throw std::invalid_argument(
-        "VideoFrameOptions: frame_rate_hz and timestamps both give the times; give one");
-  }
+  check.that(!(frame_rate_hz && timestamps), "frame_rate_hz",
+             "and timestamps both give the times; give one");
   if (cached_frames != 0) {
     check.at_least("cached_frames", static_cast<double>(cached_frames), 2.0);
   }
@@ -155,9 +153,8 @@ std::optional<std::vector<double>> frame_times_from_container(const std::vector<
     std::vector<double> intervals;
     intervals.reserve(times.size() - 1);
     for (std::size_t i = 1; i < times.size(); ++i) intervals.push_back(times[i] - times[i - 1]);
-    const auto middle = intervals.begin() + static_cast<std::ptrdiff_t>(intervals.size() / 2);
-    std::nth_element(intervals.begin(), middle, intervals.end());
-    while (times.size() < times_s.size()) times.push_back(times.back() + *middle);
+    const double median_interval_s = median(intervals);
+    while (times.size() < times_s.size()) times.push_back(times.back() + median_interval_s);
   }
   return times;
 }
