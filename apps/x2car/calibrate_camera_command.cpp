@@ -268,7 +268,7 @@ RunCommand setup_calibrate_camera_command(CLI::App& command) {
       .add_option(
           "--ins", arguments->ins_path,
           "GNSS/INS log (any form x2car reads, or a drive folder holding one): frames slow, "
-          "turning or accelerating are not used")
+          "backing up, turning or accelerating are not used")
       ->type_name("PATH");
   command
       .add_option("--camera-index", arguments->camera_index,

@@ -507,7 +507,8 @@ void count_frames(const std::vector<FrameRecord>& records,
     if (record.read_error) {
       ++result.rejections["unreadable_image"];
     } else if (verdicts[i] == FrameVerdict::kSlow || verdicts[i] == FrameVerdict::kTurning ||
-               verdicts[i] == FrameVerdict::kAccelerating) {
+               verdicts[i] == FrameVerdict::kAccelerating ||
+               verdicts[i] == FrameVerdict::kReversing) {
       ++result.rejections[to_string(verdicts[i])];
     } else if (record.estimate.rejection) {
       ++result.rejections[to_string(*record.estimate.rejection)];
@@ -927,7 +928,7 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
 }  // namespace
 
 std::size_t camera_frames_in_flight() {
-  return 2 * std::max<std::size_t>(2, std::thread::hardware_concurrency());
+  return 2 * std::clamp<std::size_t>(std::thread::hardware_concurrency(), 2, 32);
 }
 
 CalibrationResult calibrate_camera(const CameraFrameSource& frames,

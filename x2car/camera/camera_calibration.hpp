@@ -189,8 +189,10 @@ struct CameraFrameSource {
   bool lossy = false;
 };
 
-// The frames calibrate_camera estimates at once: 2 per hardware thread, at least 4. A source that
-// decodes in order (a video) keeps about twice that many behind its decoder.
+// The frames calibrate_camera estimates at once: 2 per hardware thread, at least 4 and at most 64
+// (each holds a decoded image, 25 MB at 4K: on a 128-thread server 256 of them, and the video
+// decoder's cache of twice that, would be gigabytes, for no speed a sequential decoder can feed).
+// A source that decodes in order (a video) keeps about twice that many behind its decoder.
 std::size_t camera_frames_in_flight();
 
 // Returns ok, insufficient_data (the filter's reason: "only 43 frames in stable stretches; need

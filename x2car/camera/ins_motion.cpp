@@ -5,6 +5,7 @@
 
 #include "x2car/core/options_check.hpp"
 #include "x2car/core/rotation.hpp"
+#include "x2car/core/track_heading.hpp"
 
 namespace x2car::camera {
 
@@ -13,6 +14,8 @@ void InsMotionOptions::Check() const {
   check.finite("ins_to_frame_offset_s", ins_to_frame_offset_s);
   check.positive("max_record_gap_s", max_record_gap_s);
   check.positive("rate_span_s", rate_span_s);
+  check.non_negative("min_reversing_speed_mps", min_reversing_speed_mps);
+  check.probability("min_heading_agreement", min_heading_agreement);
 }
 
 namespace {
@@ -23,14 +26,47 @@ bool has_velocities(std::span<const io::InsRecord> records) {
   });
 }
 
-// Horizontal speed at record i [m/s]: its velocity, or its positions' central difference.
-double speed_at(std::span<const io::InsRecord> records, std::size_t i, bool velocities) {
-  if (velocities) return records[i].velocity_enu.head<2>().norm();
+// Horizontal velocity at record i [m/s]: its own, or its positions' central difference.
+Eigen::Vector2d velocity_at(std::span<const io::InsRecord> records, std::size_t i,
+                            bool velocities) {
+  if (velocities) return records[i].velocity_enu.head<2>();
   const std::size_t before = i == 0 ? 0 : i - 1;
   const std::size_t after = std::min(records.size() - 1, i + 1);
-  if (before == after) return 0.0;
-  return (records[after].position_enu - records[before].position_enu).head<2>().norm() /
+  if (before == after) return Eigen::Vector2d::Zero();
+  return (records[after].position_enu - records[before].position_enu).head<2>() /
          (records[after].time - records[before].time);
+}
+
+double speed_at(std::span<const io::InsRecord> records, std::size_t i, bool velocities) {
+  return velocity_at(records, i, velocities).norm();
+}
+
+// 1 where the car backs up: its course is more than 90 deg from the one it usually has against the
+// device's heading (core/track_heading.hpp, as the GNSS/INS calibrator finds it; any mounting yaw
+// of the device is the same offset throughout). All 0 unless the moving records' offsets gather
+// round one direction (mean resultant length >= min_heading_agreement): a log whose heading does
+// not follow the car (a constant, a GNSS course) must not flag half a city drive.
+std::vector<std::uint8_t> reversing_records(std::span<const io::InsRecord> records, bool velocities,
+                                            const InsMotionOptions& options) {
+  std::vector<double> headings(records.size());
+  std::vector<double> courses(records.size());
+  std::vector<double> speeds(records.size());
+  std::vector<double> moving_offsets;
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const Eigen::Vector2d velocity = velocity_at(records, i, velocities);
+    headings[i] = records[i].attitude.yaw;
+    courses[i] = std::atan2(velocity.y(), velocity.x());
+    speeds[i] = velocity.norm();
+    if (speeds[i] >= options.min_reversing_speed_mps) {
+      moving_offsets.push_back(angle_difference(headings[i], courses[i]));
+    }
+  }
+  if (moving_offsets.empty() ||
+      mean_resultant_length(moving_offsets) < options.min_heading_agreement) {
+    return std::vector<std::uint8_t>(records.size(), 0);
+  }
+  return find_reversing(heading_offsets(headings, courses), speeds,
+                        options.min_reversing_speed_mps);
 }
 
 // The horizontal speed at `time` on the log's clock, interpolated; nullopt outside the log or in a
@@ -56,6 +92,7 @@ std::vector<std::optional<VehicleMotion>> motion_from_ins(std::span<const double
   std::vector<std::optional<VehicleMotion>> motion(frame_times.size());
   if (records.size() < 2) return motion;
   const bool velocities = has_velocities(records);
+  const std::vector<std::uint8_t> reversing = reversing_records(records, velocities, options);
   for (std::size_t f = 0; f < frame_times.size(); ++f) {
     const double time = frame_times[f] - options.ins_to_frame_offset_s;  // on the log's clock
     const auto after = std::ranges::upper_bound(records, time, {}, &io::InsRecord::time);
@@ -89,6 +126,7 @@ std::vector<std::optional<VehicleMotion>> motion_from_ins(std::span<const double
     if (speed_before && speed_after) {
       at.acceleration_mps2 = (*speed_after - *speed_before) / options.rate_span_s;
     }
+    at.reversing = reversing[share < 0.5 ? i : i + 1] != 0;
     motion[f] = at;
   }
   return motion;

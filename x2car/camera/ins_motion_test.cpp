@@ -1,9 +1,11 @@
 #include "x2car/camera/ins_motion.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace x2car::camera {
 namespace {
@@ -77,6 +79,74 @@ TEST(InsMotion, YawRateAndAccelerationOverTheSpanNotOneRecord) {
   EXPECT_LT(std::abs(motion[0]->yaw_rate), rad_from_deg(0.25));
   EXPECT_NEAR(motion[0]->acceleration_mps2, 0.0, 1e-9);
   EXPECT_NEAR(motion[1]->acceleration_mps2, 2.0, 1e-6);
+}
+
+// 30 s ahead at 10 m/s along a heading, a stop, then 6 s backing up at 4 m/s (the car still faces
+// that heading), at 100 Hz; the device is mounted at `mounting_yaw` from the car's x axis.
+std::vector<io::InsRecord> drive_then_reverse(double heading, double mounting_yaw,
+                                              bool with_velocity) {
+  std::vector<io::InsRecord> records;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  const Eigen::Vector3d ahead(std::cos(heading), std::sin(heading), 0.0);
+  for (int i = 0; i <= 3800; ++i) {
+    const double time = 0.01 * i;
+    const double speed = time < 30.0 ? 10.0 : (time < 32.0 ? 0.0 : -4.0);
+    io::InsRecord record;
+    record.time = time;
+    record.attitude.yaw = wrap_angle(heading + mounting_yaw);
+    if (with_velocity) record.velocity_enu = speed * ahead;
+    record.position_enu = position;
+    records.push_back(record);
+    position += 0.01 * speed * ahead;
+  }
+  return records;
+}
+
+// Backing up at 4 m/s passes the speed gate; the scene then flows into the vanishing point as a
+// rear camera sees it ahead, so such frames are gated (they were not: the speed is unsigned).
+TEST(InsMotion, BackingUpIsToldFromTheHeadingWhateverTheMounting) {
+  const TemporalFilterOptions gate;
+  for (const bool with_velocity : {true, false}) {
+    for (const double mounting_yaw : {0.0, rad_from_deg(90.0), rad_from_deg(-170.0)}) {
+      const std::vector<io::InsRecord> records =
+          drive_then_reverse(rad_from_deg(150.0), mounting_yaw, with_velocity);
+      const std::vector<std::optional<VehicleMotion>> motion =
+          motion_from_ins(std::vector<double>{10.0, 29.0, 31.0, 34.0, 37.0}, records);
+      ASSERT_TRUE(motion[0] && motion[1] && motion[2] && motion[3] && motion[4]);
+      const std::string where =
+          fmt::format("velocity {}, mounting yaw {:.2f} rad", with_velocity, mounting_yaw);
+      EXPECT_FALSE(motion[0]->reversing) << where;
+      EXPECT_FALSE(motion[1]->reversing) << where;
+      EXPECT_FALSE(motion[2]->reversing) << where;  // standing
+      EXPECT_TRUE(motion[3]->reversing) << where;
+      EXPECT_TRUE(motion[4]->reversing) << where;
+      EXPECT_NEAR(motion[3]->speed_mps, 4.0, 1e-6) << where;
+      EXPECT_EQ(motion_gate(motion[0], gate), std::nullopt) << where;
+      EXPECT_EQ(motion_gate(motion[3], gate), FrameVerdict::kReversing) << where;
+    }
+  }
+}
+
+// A log whose heading does not follow the car (here a constant, while the car drives round a
+// circle) gives nothing to compare the course with: no frame is taken as backing up.
+TEST(InsMotion, AHeadingThatDoesNotFollowTheCarFlagsNoReversing) {
+  std::vector<io::InsRecord> records;
+  for (int i = 0; i <= 6000; ++i) {
+    const double time = 0.01 * i;
+    const double course = 2.0 * kPi * time / 60.0;  // one circle a minute at 10 m/s
+    io::InsRecord record;
+    record.time = time;
+    record.velocity_enu = Eigen::Vector3d(10.0 * std::cos(course), 10.0 * std::sin(course), 0.0);
+    records.push_back(record);  // attitude.yaw stays 0
+  }
+  std::vector<double> frames;
+  for (double time = 1.0; time < 59.0; time += 0.5) frames.push_back(time);
+  for (const std::optional<VehicleMotion>& at : motion_from_ins(frames, records)) {
+    ASSERT_TRUE(at);
+    EXPECT_FALSE(at->reversing);
+  }
+  EXPECT_THROW(motion_from_ins(frames, records, {.min_heading_agreement = 1.5}),
+               std::invalid_argument);
 }
 
 }  // namespace

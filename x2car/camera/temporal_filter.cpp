@@ -40,13 +40,14 @@ void TemporalFilterOptions::Check() const {
 
 namespace {
 
-constexpr std::array<EnumName<FrameVerdict>, 6> kFrameVerdictNames{{
+constexpr std::array<EnumName<FrameVerdict>, 7> kFrameVerdictNames{{
     {FrameVerdict::kBuffered, "buffered"},
     {FrameVerdict::kWindowPassed, "window_passed"},
     {FrameVerdict::kNoEstimate, "no_estimate"},
     {FrameVerdict::kSlow, "slow"},
     {FrameVerdict::kTurning, "turning"},
     {FrameVerdict::kAccelerating, "accelerating"},
+    {FrameVerdict::kReversing, "reversing"},
 }};
 
 double EulerAngles::*const kAngles[] = {&EulerAngles::roll, &EulerAngles::pitch, &EulerAngles::yaw};
@@ -76,6 +77,7 @@ std::optional<FrameVerdict> motion_gate(const std::optional<VehicleMotion>& moti
                                         const TemporalFilterOptions& options) {
   if (!motion) return std::nullopt;
   if (!(motion->speed_mps >= options.min_speed_mps)) return FrameVerdict::kSlow;
+  if (motion->reversing) return FrameVerdict::kReversing;
   if (!(std::abs(motion->yaw_rate) <= options.max_yaw_rate)) return FrameVerdict::kTurning;
   if (!(std::abs(motion->acceleration_mps2) <= options.max_acceleration_mps2)) {
     return FrameVerdict::kAccelerating;

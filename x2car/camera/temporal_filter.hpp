@@ -50,6 +50,9 @@ struct VehicleMotion {
   double yaw_rate = 0.0;   // [rad/s]
   // Along the track: the change of the speed per second [m/s^2].
   double acceleration_mps2 = 0.0;
+  // Backing up: the road's vanishing point is still ahead of the car, but the images' flow runs
+  // into it, as a camera that looks back sees it (facing_check.hpp); gated.
+  bool reversing = false;
 };
 
 // The car's motion between a frame and the one before, seen in the images (the road plane's
@@ -150,12 +153,13 @@ enum class FrameVerdict {
   kSlow,          // gated: slower than min_speed_mps; the stretch ends
   kTurning,       // gated: |yaw rate| above max_yaw_rate; the stretch ends
   kAccelerating,  // gated: |acceleration| above max_acceleration_mps2; the stretch ends
+  kReversing,     // gated: the car backs up (VehicleMotion::reversing); the stretch ends
 };
 const char* to_string(FrameVerdict verdict);  // "buffered", "window_passed", "no_estimate", ...
 
-// The motion gate alone: kSlow, kTurning or kAccelerating when `motion` fails it, nothing when it
-// passes or is unknown. add() applies it first, so a caller may skip estimating the frames it
-// gates.
+// The motion gate alone: kSlow, kReversing, kTurning or kAccelerating when `motion` fails it,
+// nothing when it passes or is unknown. add() applies it first, so a caller may skip estimating the
+// frames it gates.
 std::optional<FrameVerdict> motion_gate(const std::optional<VehicleMotion>& motion,
                                         const TemporalFilterOptions& options);
 

@@ -217,6 +217,7 @@ TEST(TemporalFilter, GatesAccelerationByTheCarsMotion) {
   EXPECT_EQ(estimate.windows, 1U);
   EXPECT_NEAR(estimate.angles.pitch, kTruth.pitch, 2e-4);
   EXPECT_STREQ(to_string(FrameVerdict::kAccelerating), "accelerating");
+  EXPECT_STREQ(to_string(FrameVerdict::kReversing), "reversing");
 }
 
 // A frame's road-plane angles (the truth) with the car's motion seen in the images: its yaw rate

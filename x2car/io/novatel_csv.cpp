@@ -184,11 +184,17 @@ std::string format_utc_time(std::int64_t unix_time_ns) {
 }
 
 std::optional<std::int64_t> parse_utc_time(std::string_view text) {
-  // ISO 8601's designators of UTC itself; another offset is not UTC and does not parse.
-  if (text.ends_with('Z')) {
+  // ISO 8601's designators of UTC itself, in either case and each form of a zero offset (RFC 3339
+  // allows a lowercase z); another offset is not UTC and does not parse.
+  if (text.ends_with('Z') || text.ends_with('z')) {
     text.remove_suffix(1);
-  } else if (text.ends_with("+00:00")) {
-    text.remove_suffix(6);
+  } else {
+    for (const std::string_view zero_offset : {"+00:00", "+0000", "+00"}) {
+      if (text.ends_with(zero_offset)) {
+        text.remove_suffix(zero_offset.size());
+        break;
+      }
+    }
   }
   std::size_t pos = 0;
   const auto year = read_digits(text, pos, 4);
@@ -196,7 +202,7 @@ std::optional<std::int64_t> parse_utc_time(std::string_view text) {
   const auto month = read_digits(text, pos, 2);
   const bool dash2 = read_char(text, pos, "-");
   const auto day = read_digits(text, pos, 2);
-  const bool separator = read_char(text, pos, " T");
+  const bool separator = read_char(text, pos, " Tt");
   const auto hour = read_digits(text, pos, 2);
   const bool colon1 = read_char(text, pos, ":");
   const auto minute = read_digits(text, pos, 2);

@@ -42,8 +42,9 @@ std::span<const char* const> novatel_field_names();
 // microsecond; proleptic Gregorian calendar by days-from-civil arithmetic.
 std::string format_utc_time(std::int64_t unix_time_ns);
 
-// The instant [ns since the Unix epoch] of "YYYY-MM-DD HH:MM:SS[.f...]" (UTC; 'T' may separate
-// date and time; 1 to 9 fraction digits; ISO 8601's "Z" or "+00:00" may follow); nullopt when the
+// The instant [ns since the Unix epoch] of "YYYY-MM-DD HH:MM:SS[.f...]" (UTC; 'T' or 't' may
+// separate date and time; 1 to 9 fraction digits; "Z", "z", "+00:00", "+0000" or "+00" may
+// follow; a leap second's :60 does not parse); nullopt when the
 // text is not such a valid date-time or lies outside what an int64 of nanoseconds holds (1677-09-21
 // to 2262-04-11).
 std::optional<std::int64_t> parse_utc_time(std::string_view text);

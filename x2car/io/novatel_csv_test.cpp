@@ -65,6 +65,10 @@ TEST(UtcTime, ParsesKnownInstants) {
   // ISO 8601's UTC designators (they were refused).
   EXPECT_EQ(parse_utc_time("2026-06-01T10:00:00.5Z"), 1780308000 * kNs + kNs / 2);
   EXPECT_EQ(parse_utc_time("2026-06-01T10:00:00+00:00"), 1780308000 * kNs);
+  // RFC 3339's lowercase t and z, ISO 8601's basic and hour-only zero offsets (they were refused).
+  EXPECT_EQ(parse_utc_time("2026-06-01t10:00:00.5z"), 1780308000 * kNs + kNs / 2);
+  EXPECT_EQ(parse_utc_time("2026-06-01 10:00:00+0000"), 1780308000 * kNs);
+  EXPECT_EQ(parse_utc_time("2026-06-01T10:00:00.25+00"), 1780308000 * kNs + kNs / 4);
 }
 
 TEST(UtcTime, FormatAndParseAgreeOverCenturies) {
@@ -79,6 +83,7 @@ TEST(UtcTime, RejectsInvalidDateTimes) {
        {"2026-02-29 10:00:00", "2026-13-01 10:00:00", "2026-06-00 10:00:00", "2026-06-01 24:00:00",
         "2026-06-01 10:60:00", "2026-06-01 10:00:60", "2026/06/01 10:00:00", "2026-06-01 10:00:00.",
         "2026-06-01 10:00:00.1234567890", "2026-06-01 10:00:00+02:00", "2026-06-01 10:00:00.Z",
+        "2026-06-01 10:00:00+0100", "2026-06-01 10:00:00-05", "2026-06-01 10:00:00Z+00:00",
         "2026-6-1 10:00:00", "1780308000", ""}) {
     EXPECT_FALSE(parse_utc_time(text).has_value()) << text;
   }

@@ -742,7 +742,8 @@
     const box = el('div', { class: 'adjust' });
     parent.append(el('h3', { text: 'Adjust by eye' }), box);
     box.append(el('p', { class: 'note', text: 'Move the sliders until the dashed horizon and the lane guides sit on ' +
-      'the scene; the red cross is where the car drives towards. Export the adjusted mounting below.' +
+      'the scene; the red cross is the vanishing point of the car\'s travel (ahead of it, or behind it for a camera ' +
+      'that looks back). Export the adjusted mounting below.' +
       (r.status === 'ok' ? '' : ' No estimate: the sliders start at the per-frame angles\' median.') }));
     const canvas = el('canvas', { width: frame.width, height: frame.height, class: 'frame-canvas adjust-canvas' });
     box.append(canvas);
@@ -767,12 +768,16 @@
       strokeLine(context, ends, '#40c4ff', 2, [10, 6]);
       const height = Number(heightInput.value) || 1.5;
       const half = (Number(laneInput.value) || 3.5) / 2;
+      // A camera that looks back sees the road behind the car: its guides and cross lie that way.
+      const along = opticalFromVehicle(angles, [1, 0, 0])[2] >= 0 ? 1 : -1;
+      let guidePoints = 0;
       for (const side of [-3 * half, -half, half, 3 * half]) {
         const points = [];
         for (let x = 3; x <= 120; x *= 1.15) {
-          const pixel = project(frame, opticalFromVehicle(angles, [x, side, -height]));
+          const pixel = project(frame, opticalFromVehicle(angles, [along * x, side, -height]));
           if (pixel) points.push(pixel);
         }
+        guidePoints += points.length;
         context.save();
         context.strokeStyle = Math.abs(side) < half * 2 ? '#ffea00' : 'rgba(255,234,0,0.5)';
         context.lineWidth = 2;
@@ -781,7 +786,8 @@
         context.stroke();
         context.restore();
       }
-      cross(context, project(frame, opticalFromVehicle(angles, [1, 0, 0])), '#ff1744');
+      cross(context, project(frame, opticalFromVehicle(angles, [along, 0, 0])), '#ff1744');
+      canvas.setAttribute('data-guide-points', String(guidePoints));
     }
 
     for (const key of ['roll', 'pitch', 'yaw']) {

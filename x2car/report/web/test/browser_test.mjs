@@ -69,8 +69,17 @@ try {
       fail(sensor + ': no horizon drawn (' + before + ')');
       continue;
     }
+    const guides = async () => Number(await canvas.getAttribute('data-guide-points'));
+    if (!(await guides() > 0)) fail(sensor + ': no lane guide drawn');
     const roll = section.locator('input[data-angle="roll"]');
     const start = Number(await roll.inputValue());
+    // The same view for a camera that looks back (yaw turned by 180 deg): its guides run behind the
+    // car (none were drawn for one).
+    await page.evaluate((index) => { window.x2carReport.cameraViews[index].angles.yaw += 180; }, index);
+    await roll.fill(String(start + 0.5));
+    if (!(await guides() > 0)) fail(sensor + ': no lane guide drawn for a camera that looks back');
+    await page.evaluate((index) => { window.x2carReport.cameraViews[index].angles.yaw -= 180; }, index);
+    await roll.fill(String(start));
     await roll.fill(String(start + 2));
     const rolled = await horizon();
     // Rolling the camera tilts its horizon: the two ends move apart vertically.
