@@ -5,7 +5,6 @@
 
 #include "x2car/core/options_check.hpp"
 #include "x2car/core/rotation.hpp"
-#include "x2car/core/track_heading.hpp"
 
 namespace x2car::camera {
 
@@ -41,32 +40,40 @@ double speed_at(std::span<const io::InsRecord> records, std::size_t i, bool velo
   return velocity_at(records, i, velocities).norm();
 }
 
-// 1 where the car backs up: its course is more than 90 deg from the one it usually has against the
-// device's heading (core/track_heading.hpp, as the GNSS/INS calibrator finds it; any mounting yaw
-// of the device is the same offset throughout). All 0 unless the moving records' offsets gather
-// round one direction (mean resultant length >= min_heading_agreement): a log whose heading does
-// not follow the car (a constant, a GNSS course) must not flag half a city drive.
+// 1 where the car backs up: its course is more than 90 deg from the one it has against the
+// device's heading while it drives ahead (any mounting yaw of the device is the same offset
+// throughout). The offsets of the moving records are taken as axes (doubled angles): driving ahead
+// and backing up fall on one axis, whatever share each has, and unless they gather round it (mean
+// resultant length >= min_heading_agreement) the log's heading does not follow the car (a
+// constant, a copy of the course) and nothing is flagged. Ahead is the end of the axis most moving
+// records lie on (most of a drive goes forward).
 std::vector<std::uint8_t> reversing_records(std::span<const io::InsRecord> records, bool velocities,
                                             const InsMotionOptions& options) {
-  std::vector<double> headings(records.size());
-  std::vector<double> courses(records.size());
-  std::vector<double> speeds(records.size());
-  std::vector<double> moving_offsets;
+  std::vector<double> offsets(records.size(), 0.0);
+  std::vector<std::uint8_t> moving(records.size(), 0);
+  std::vector<double> doubled_offsets;
   for (std::size_t i = 0; i < records.size(); ++i) {
     const Eigen::Vector2d velocity = velocity_at(records, i, velocities);
-    headings[i] = records[i].attitude.yaw;
-    courses[i] = std::atan2(velocity.y(), velocity.x());
-    speeds[i] = velocity.norm();
-    if (speeds[i] >= options.min_reversing_speed_mps) {
-      moving_offsets.push_back(angle_difference(headings[i], courses[i]));
-    }
+    if (velocity.norm() < options.min_reversing_speed_mps) continue;
+    moving[i] = 1;
+    offsets[i] = angle_difference(records[i].attitude.yaw, std::atan2(velocity.y(), velocity.x()));
+    doubled_offsets.push_back(2.0 * offsets[i]);
   }
-  if (moving_offsets.empty() ||
-      mean_resultant_length(moving_offsets) < options.min_heading_agreement) {
-    return std::vector<std::uint8_t>(records.size(), 0);
+  std::vector<std::uint8_t> reversing(records.size(), 0);
+  if (doubled_offsets.empty() ||
+      mean_resultant_length(doubled_offsets) < options.min_heading_agreement) {
+    return reversing;
   }
-  return find_reversing(heading_offsets(headings, courses), speeds,
-                        options.min_reversing_speed_mps);
+  const double axis = 0.5 * circular_mean(doubled_offsets);
+  std::size_t along_axis = 0;
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    if (moving[i] && std::abs(angle_difference(offsets[i], axis)) <= kPi / 2.0) ++along_axis;
+  }
+  const double ahead = 2 * along_axis >= doubled_offsets.size() ? axis : wrap_angle(axis + kPi);
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    reversing[i] = moving[i] && std::abs(angle_difference(offsets[i], ahead)) > kPi / 2.0;
+  }
+  return reversing;
 }
 
 // The horizontal speed at `time` on the log's clock, interpolated; nullopt outside the log or in a

@@ -6,8 +6,8 @@
 // of the device's yaw (wrapped) and the acceleration the change of the speed, each over
 // rate_span_s centred on the frame. A device mounted at any yaw turns with the car, so its yaw rate
 // is the car's (within the cosine of its small roll and pitch). The car backs up where its course
-// is turned by more than 90 deg from the one it usually has against the device's heading (as the
-// GNSS/INS calibrator tells it, core/track_heading.hpp; most of a drive goes forward).
+// is turned by more than 90 deg from the one it has against the device's heading driving ahead
+// (the end of the offsets' axis that most moving records lie on: most of a drive goes forward).
 #pragma once
 
 #include <optional>
@@ -29,11 +29,12 @@ struct InsMotionOptions {
   // on the frame (within the log) [s]: over one record's interval they would be mostly noise.
   double rate_span_s = 0.5;
   // Backing up (VehicleMotion::reversing) is told only at this speed or more [m/s]: slower, the
-  // course is noise (and the motion gate's min_speed_mps refuses such frames anyway).
-  double min_reversing_speed_mps = 0.5;
-  // ... and only when the moving records' offsets of heading against course agree this well (their
-  // mean resultant length, 0-1): a log whose heading does not follow the car (a constant, a copy
-  // of the course) has nothing to compare with.
+  // course is noise (a log without velocities: 2 cm of position noise differenced over 20 ms reads
+  // as 1 m/s), and the motion gate's min_speed_mps refuses such frames anyway.
+  double min_reversing_speed_mps = 2.0;
+  // ... and only when the moving records' offsets of heading against course lie this close to one
+  // axis (the mean resultant length of the doubled offsets, 0-1: ahead and backing up fall on the
+  // same axis): a log whose heading does not follow the car (a constant) has nothing to compare.
   double min_heading_agreement = 0.5;
 
   // Throws std::invalid_argument naming the offending field.

@@ -81,14 +81,15 @@ TEST(InsMotion, YawRateAndAccelerationOverTheSpanNotOneRecord) {
   EXPECT_NEAR(motion[1]->acceleration_mps2, 2.0, 1e-6);
 }
 
-// 30 s ahead at 10 m/s along a heading, a stop, then 6 s backing up at 4 m/s (the car still faces
-// that heading), at 100 Hz; the device is mounted at `mounting_yaw` from the car's x axis.
+// 30 s ahead at 10 m/s along a heading, a stop, then `reverse_s` backing up at 4 m/s (the car
+// still faces that heading), at 100 Hz; the device is mounted at `mounting_yaw` from the car's x
+// axis.
 std::vector<io::InsRecord> drive_then_reverse(double heading, double mounting_yaw,
-                                              bool with_velocity) {
+                                              bool with_velocity, double reverse_s) {
   std::vector<io::InsRecord> records;
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   const Eigen::Vector3d ahead(std::cos(heading), std::sin(heading), 0.0);
-  for (int i = 0; i <= 3800; ++i) {
+  for (int i = 0; i <= 3200 + static_cast<int>(100 * reverse_s); ++i) {
     const double time = 0.01 * i;
     const double speed = time < 30.0 ? 10.0 : (time < 32.0 ? 0.0 : -4.0);
     io::InsRecord record;
@@ -104,25 +105,30 @@ std::vector<io::InsRecord> drive_then_reverse(double heading, double mounting_ya
 
 // Backing up at 4 m/s passes the speed gate; the scene then flows into the vanishing point as a
 // rear camera sees it ahead, so such frames are gated (they were not: the speed is unsigned).
+// Whatever the device's mounting, and also when the car backs up nearly as long as it drives ahead
+// (a simulated drive of that kind went unflagged while the offsets were averaged as angles).
 TEST(InsMotion, BackingUpIsToldFromTheHeadingWhateverTheMounting) {
   const TemporalFilterOptions gate;
-  for (const bool with_velocity : {true, false}) {
-    for (const double mounting_yaw : {0.0, rad_from_deg(90.0), rad_from_deg(-170.0)}) {
-      const std::vector<io::InsRecord> records =
-          drive_then_reverse(rad_from_deg(150.0), mounting_yaw, with_velocity);
-      const std::vector<std::optional<VehicleMotion>> motion =
-          motion_from_ins(std::vector<double>{10.0, 29.0, 31.0, 34.0, 37.0}, records);
-      ASSERT_TRUE(motion[0] && motion[1] && motion[2] && motion[3] && motion[4]);
-      const std::string where =
-          fmt::format("velocity {}, mounting yaw {:.2f} rad", with_velocity, mounting_yaw);
-      EXPECT_FALSE(motion[0]->reversing) << where;
-      EXPECT_FALSE(motion[1]->reversing) << where;
-      EXPECT_FALSE(motion[2]->reversing) << where;  // standing
-      EXPECT_TRUE(motion[3]->reversing) << where;
-      EXPECT_TRUE(motion[4]->reversing) << where;
-      EXPECT_NEAR(motion[3]->speed_mps, 4.0, 1e-6) << where;
-      EXPECT_EQ(motion_gate(motion[0], gate), std::nullopt) << where;
-      EXPECT_EQ(motion_gate(motion[3], gate), FrameVerdict::kReversing) << where;
+  for (const double reverse_s : {6.0, 25.0}) {
+    for (const bool with_velocity : {true, false}) {
+      for (const double mounting_yaw : {0.0, rad_from_deg(90.0), rad_from_deg(-170.0)}) {
+        const std::vector<io::InsRecord> records =
+            drive_then_reverse(rad_from_deg(150.0), mounting_yaw, with_velocity, reverse_s);
+        const std::vector<std::optional<VehicleMotion>> motion =
+            motion_from_ins(std::vector<double>{10.0, 29.0, 31.0, 34.0, 31.0 + reverse_s}, records);
+        ASSERT_TRUE(motion[0] && motion[1] && motion[2] && motion[3] && motion[4]);
+        const std::string where =
+            fmt::format("backing up {} s, velocity {}, mounting yaw {:.2f} rad", reverse_s,
+                        with_velocity, mounting_yaw);
+        EXPECT_FALSE(motion[0]->reversing) << where;
+        EXPECT_FALSE(motion[1]->reversing) << where;
+        EXPECT_FALSE(motion[2]->reversing) << where;  // standing
+        EXPECT_TRUE(motion[3]->reversing) << where;
+        EXPECT_TRUE(motion[4]->reversing) << where;
+        EXPECT_NEAR(motion[3]->speed_mps, 4.0, 1e-6) << where;
+        EXPECT_EQ(motion_gate(motion[0], gate), std::nullopt) << where;
+        EXPECT_EQ(motion_gate(motion[3], gate), FrameVerdict::kReversing) << where;
+      }
     }
   }
 }

@@ -111,10 +111,11 @@ class SequentialDecoder {
 
 // What one pass of decoding found.
 struct VideoScan {
-  std::size_t frames = 0;
   std::vector<double> times_s;       // each frame's presentation time, from its container
   double nominal_rate_hz = 0.0;      // the container's frame rate (FFmpeg makes one up if none)
   std::size_t container_frames = 0;  // the container's count (0: none)
+
+  std::size_t frames() const { return times_s.size(); }  // decoded
 };
 
 // Decodes the whole video once to count its frames, check that each decodes and read its times.
@@ -127,10 +128,9 @@ VideoScan scan_video(const std::filesystem::path& path) {
     scan.container_frames = static_cast<std::size_t>(std::llround(container_frames));
   }
   while (capture.grab()) {
-    ++scan.frames;
     scan.times_s.push_back(1e-3 * capture.get(cv::CAP_PROP_POS_MSEC));
   }
-  if (scan.frames == 0) throw InputError(path.string(), "holds no frame that can be decoded");
+  if (scan.frames() == 0) throw InputError(path.string(), "holds no frame that can be decoded");
   return scan;
 }
 
@@ -183,18 +183,18 @@ VideoFrames camera_frames_from_video(const std::filesystem::path& path,
   CameraFrameSource& frames = video.source;
   if (options.timestamps) {
     frames.times = io::read_timestamps_file(*options.timestamps);
-    if (frames.times.size() != scan.frames) {
+    if (frames.times.size() != scan.frames()) {
       throw InputError(options.timestamps->string(),
                        fmt::format("holds {} timestamps but {} has {} frames{}",
-                                   frames.times.size(), path.string(), scan.frames,
-                                   scan.container_frames > scan.frames
+                                   frames.times.size(), path.string(), scan.frames(),
+                                   scan.container_frames > scan.frames()
                                        ? fmt::format(" (its container lists {}: truncated?)",
                                                      scan.container_frames)
                                        : std::string()));
     }
     video.time_source = fmt::format("the timestamps file {}", options.timestamps->string());
   } else if (options.frame_rate_hz) {
-    frames.times = times_from_rate(scan.frames, *options.frame_rate_hz);
+    frames.times = times_from_rate(scan.frames(), *options.frame_rate_hz);
     video.time_source = fmt::format("the frame rate given, {:g} Hz", *options.frame_rate_hz);
   } else if (std::size_t flushed = 0; std::optional<std::vector<double>> times =
                                           frame_times_from_container(scan.times_s, flushed)) {
@@ -208,16 +208,16 @@ VideoFrames camera_frames_from_video(const std::filesystem::path& path,
                                   flushed);
   } else {
     const double rate_hz = scan.nominal_rate_hz;
-    if (scan.frames > 1 &&
+    if (scan.frames() > 1 &&
         (!(rate_hz > 0.0) || !std::isfinite(rate_hz) || rate_hz > kMaxPlausibleFrameRateHz)) {
       throw InputError(path.string(), 0, "frame rate",
                        fmt::format("the video gives no frame times and no plausible frame rate "
                                    "({:g} Hz); give --frame-rate or a timestamps file",
                                    rate_hz));
     }
-    frames.times = times_from_rate(scan.frames, rate_hz > 0.0 ? rate_hz : 1.0);
+    frames.times = times_from_rate(scan.frames(), rate_hz > 0.0 ? rate_hz : 1.0);
     video.time_source = fmt::format("the video's nominal frame rate, {:g} Hz", rate_hz);
-    if (scan.frames > 1) {
+    if (scan.frames() > 1) {
       video.notes.push_back(fmt::format(
           "{}: the frames carry no increasing times; they are timed by the container's nominal "
           "frame rate, {:g} Hz (FFmpeg makes one up for a stream that has none); give "
@@ -225,7 +225,7 @@ VideoFrames camera_frames_from_video(const std::filesystem::path& path,
           path.string(), rate_hz));
     }
   }
-  if (scan.frames == 1 && scan.container_frames <= 1) {
+  if (scan.frames() == 1 && scan.container_frames <= 1) {
     video.notes.push_back(fmt::format(
         "{}: holds a single frame (an image with a video's name?); calibrating needs a drive",
         path.string()));
@@ -240,19 +240,20 @@ VideoFrames camera_frames_from_video(const std::filesystem::path& path,
   // decoding stopped early.
   const bool nominal_rate_holds =
       scan.nominal_rate_hz > 0.0 && scan.nominal_rate_hz <= kMaxPlausibleFrameRateHz &&
-      (scan.frames < 3 ||
+      (scan.frames() < 3 ||
        std::abs(scan.nominal_rate_hz - video.mean_frame_rate_hz) <= 0.05 * scan.nominal_rate_hz);
   if (nominal_rate_holds &&
-      scan.container_frames > scan.frames + std::max<std::size_t>(2, scan.container_frames / 50)) {
-    video.notes.push_back(
-        fmt::format("{}: decoding stopped after {} of the {} frames the container lists (the file "
-                    "is truncated or corrupt from frame {} on); calibrating those {}",
-                    path.string(), scan.frames, scan.container_frames, scan.frames, scan.frames));
+      scan.container_frames >
+          scan.frames() + std::max<std::size_t>(2, scan.container_frames / 50)) {
+    video.notes.push_back(fmt::format(
+        "{}: decoding stopped after {} of the {} frames the container lists (the file "
+        "is truncated or corrupt from frame {} on); calibrating those {}",
+        path.string(), scan.frames(), scan.container_frames, scan.frames(), scan.frames()));
   }
   const std::size_t cached = options.cached_frames != 0
                                  ? options.cached_frames
                                  : std::max<std::size_t>(64, 2 * camera_frames_in_flight() + 16);
-  auto decoder = std::make_shared<SequentialDecoder>(path, scan.frames, cached);
+  auto decoder = std::make_shared<SequentialDecoder>(path, scan.frames(), cached);
   frames.read = [decoder](std::size_t index) { return decoder->frame(index); };
   // Cameras' videos are coded with loss (H.264, H.265, MJPEG); a lossless one (FFV1) is taken as
   // lossy too, which costs it little (CameraCalibrationOptions::lossy_tracking_window_px).
