@@ -190,8 +190,9 @@ struct CameraFrameSource {
 };
 
 // The frames calibrate_camera estimates at once: 2 per hardware thread, at least 4 and at most 64
-// (each holds a decoded image, 25 MB at 4K: on a 128-thread server 256 of them, and the video
-// decoder's cache of twice that, would be gigabytes, for no speed a sequential decoder can feed).
+// (each holds a decoded image, 25 MB at 4K in colour: on a 128-thread server 256 of them and the
+// video decoder's 528 grey ones would be over 10 GB; capped, 64 and 144, about 2.8 GB, for no
+// speed lost that a sequential decoder could feed).
 // A source that decodes in order (a video) keeps about twice that many behind its decoder.
 std::size_t camera_frames_in_flight();
 

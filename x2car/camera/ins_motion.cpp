@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "x2car/core/options_check.hpp"
 #include "x2car/core/rotation.hpp"
@@ -14,7 +15,10 @@ void InsMotionOptions::Check() const {
   check.positive("max_record_gap_s", max_record_gap_s);
   check.positive("rate_span_s", rate_span_s);
   check.non_negative("min_reversing_speed_mps", min_reversing_speed_mps);
-  check.probability("min_heading_agreement", min_heading_agreement);
+  check.that(min_heading_agreement > 0.0 && min_heading_agreement <= 1.0, "min_heading_agreement",
+             "in (0, 1]");
+  check.positive("min_course_turn", min_course_turn);
+  check.non_negative("min_course_turning_s", min_course_turning_s);
 }
 
 namespace {
@@ -40,15 +44,51 @@ double speed_at(std::span<const io::InsRecord> records, std::size_t i, bool velo
   return velocity_at(records, i, velocities).norm();
 }
 
+// Whether the log's heading turns with the car: where the course turns by min_course_turn or more
+// over rate_span_s while the car moves (it cannot change between ahead and back without stopping),
+// the heading must turn by as much, to within half, for most of that time. A heading that stays
+// put (a constant, a frozen yaw) says nothing about which way the car faces: on a drive out and
+// back along one road every record of one leg would read as backing up. Less than
+// min_course_turning_s of such turning (a straight drive; a noisy record or two) cannot tell
+// (true).
+bool heading_turns_with_course(std::span<const io::InsRecord> records,
+                               std::span<const double> courses,
+                               std::span<const std::uint8_t> moving,
+                               const InsMotionOptions& options) {
+  double turning_s = 0.0;
+  double following_s = 0.0;
+  for (std::size_t i = 0; i + 1 < records.size(); ++i) {
+    if (!moving[i]) continue;
+    const auto later = std::ranges::lower_bound(records, records[i].time + options.rate_span_s, {},
+                                                &io::InsRecord::time);
+    if (later == records.end()) break;
+    const auto j = static_cast<std::size_t>(later - records.begin());
+    if (!moving[j] ||
+        records[j].time - records[i].time > options.rate_span_s + options.max_record_gap_s) {
+      continue;  // stopped, or a gap in the log
+    }
+    const double course_turn = angle_difference(courses[j], courses[i]);
+    if (std::abs(course_turn) < options.min_course_turn) continue;
+    const double step_s = std::min(records[i + 1].time - records[i].time, options.max_record_gap_s);
+    turning_s += step_s;
+    const double heading_turn = angle_difference(records[j].attitude.yaw, records[i].attitude.yaw);
+    if (std::abs(heading_turn - course_turn) <= 0.5 * std::abs(course_turn)) following_s += step_s;
+  }
+  return turning_s < options.min_course_turning_s || 2.0 * following_s >= turning_s;
+}
+
 // 1 where the car backs up: its course is more than 90 deg from the one it has against the
 // device's heading while it drives ahead (any mounting yaw of the device is the same offset
-// throughout). The offsets of the moving records are taken as axes (doubled angles): driving ahead
-// and backing up fall on one axis, whatever share each has, and unless they gather round it (mean
-// resultant length >= min_heading_agreement) the log's heading does not follow the car (a
-// constant, a copy of the course) and nothing is flagged. Ahead is the end of the axis most moving
-// records lie on (most of a drive goes forward).
+// throughout). The offsets of the moving records are taken as axes (doubled angles), on which
+// driving ahead and backing up fall alike, whatever share each has; ahead is the end of the axis
+// most moving records lie on (most of a drive goes forward). Nothing is flagged when the doubled
+// offsets do not gather round their axis (mean resultant length below min_heading_agreement: a
+// heading unrelated to the car) or when the heading does not turn with the course
+// (heading_turns_with_course). A heading that copies the course flags nothing either: every
+// record lies at the axis' ahead end.
 std::vector<std::uint8_t> reversing_records(std::span<const io::InsRecord> records, bool velocities,
                                             const InsMotionOptions& options) {
+  std::vector<double> courses(records.size(), 0.0);
   std::vector<double> offsets(records.size(), 0.0);
   std::vector<std::uint8_t> moving(records.size(), 0);
   std::vector<double> doubled_offsets;
@@ -56,12 +96,14 @@ std::vector<std::uint8_t> reversing_records(std::span<const io::InsRecord> recor
     const Eigen::Vector2d velocity = velocity_at(records, i, velocities);
     if (velocity.norm() < options.min_reversing_speed_mps) continue;
     moving[i] = 1;
-    offsets[i] = angle_difference(records[i].attitude.yaw, std::atan2(velocity.y(), velocity.x()));
+    courses[i] = std::atan2(velocity.y(), velocity.x());
+    offsets[i] = angle_difference(records[i].attitude.yaw, courses[i]);
     doubled_offsets.push_back(2.0 * offsets[i]);
   }
   std::vector<std::uint8_t> reversing(records.size(), 0);
   if (doubled_offsets.empty() ||
-      mean_resultant_length(doubled_offsets) < options.min_heading_agreement) {
+      mean_resultant_length(doubled_offsets) < options.min_heading_agreement ||
+      !heading_turns_with_course(records, courses, moving, options)) {
     return reversing;
   }
   const double axis = 0.5 * circular_mean(doubled_offsets);
@@ -74,6 +116,21 @@ std::vector<std::uint8_t> reversing_records(std::span<const io::InsRecord> recor
     reversing[i] = moving[i] && std::abs(angle_difference(offsets[i], ahead)) > kPi / 2.0;
   }
   return reversing;
+}
+
+// Whether most records within rate_span_s around `time` back up: one record's course, from a
+// noisy velocity or positions' difference, must not end a steady stretch.
+bool reversing_around(std::span<const io::InsRecord> records,
+                      std::span<const std::uint8_t> reversing, double time,
+                      const InsMotionOptions& options) {
+  const double half = 0.5 * options.rate_span_s;
+  const auto first = std::ranges::lower_bound(records, time - half, {}, &io::InsRecord::time);
+  const auto last = std::ranges::upper_bound(records, time + half, {}, &io::InsRecord::time);
+  const auto begin = static_cast<std::size_t>(first - records.begin());
+  const auto end = static_cast<std::size_t>(last - records.begin());
+  std::size_t backing = 0;
+  for (std::size_t i = begin; i < end; ++i) backing += reversing[i];
+  return end > begin && 2 * backing > end - begin;
 }
 
 // The horizontal speed at `time` on the log's clock, interpolated; nullopt outside the log or in a
@@ -133,7 +190,7 @@ std::vector<std::optional<VehicleMotion>> motion_from_ins(std::span<const double
     if (speed_before && speed_after) {
       at.acceleration_mps2 = (*speed_after - *speed_before) / options.rate_span_s;
     }
-    at.reversing = reversing[share < 0.5 ? i : i + 1] != 0;
+    at.reversing = reversing_around(records, reversing, time, options);
     motion[f] = at;
   }
   return motion;

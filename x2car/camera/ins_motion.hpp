@@ -7,7 +7,9 @@
 // rate_span_s centred on the frame. A device mounted at any yaw turns with the car, so its yaw rate
 // is the car's (within the cosine of its small roll and pitch). The car backs up where its course
 // is turned by more than 90 deg from the one it has against the device's heading driving ahead
-// (the end of the offsets' axis that most moving records lie on: most of a drive goes forward).
+// (the end of the offsets' axis that most moving records lie on: most of a drive goes forward),
+// in most records within rate_span_s around the frame; never where the log's heading does not turn
+// with the car.
 #pragma once
 
 #include <optional>
@@ -33,9 +35,16 @@ struct InsMotionOptions {
   // as 1 m/s), and the motion gate's min_speed_mps refuses such frames anyway.
   double min_reversing_speed_mps = 2.0;
   // ... and only when the moving records' offsets of heading against course lie this close to one
-  // axis (the mean resultant length of the doubled offsets, 0-1: ahead and backing up fall on the
-  // same axis): a log whose heading does not follow the car (a constant) has nothing to compare.
+  // axis (the mean resultant length of the doubled offsets, in (0, 1]: ahead and backing up fall on
+  // the same axis) ...
   double min_heading_agreement = 0.5;
+  // ... and when, where the course turns by this much or more over rate_span_s, the heading turns
+  // alike for most of that time [rad]: a heading that stays put (a constant, a frozen yaw) does not
+  // say which way the car faces ...
+  double min_course_turn = rad_from_deg(5.0);
+  // ... judged when the course turns for this long or longer [s] (shorter: a straight drive, or a
+  // noisy record or two; the heading is trusted).
+  double min_course_turning_s = 2.0;
 
   // Throws std::invalid_argument naming the offending field.
   void Check() const;

@@ -153,6 +153,84 @@ TEST(InsMotion, AHeadingThatDoesNotFollowTheCarFlagsNoReversing) {
   }
   EXPECT_THROW(motion_from_ins(frames, records, {.min_heading_agreement = 1.5}),
                std::invalid_argument);
+  EXPECT_THROW(motion_from_ins(frames, records, {.min_heading_agreement = 0.0}),
+               std::invalid_argument);
+}
+
+// A heading that stays put while the car turns says nothing about which way the car faces: driving
+// out along a road, turning round at speed and back, the way back would all read as backing up (the
+// offsets of a constant heading lie on one axis there), and nothing is flagged.
+TEST(InsMotion, AHeadingThatDoesNotTurnWithTheCarFlagsNoReversing) {
+  std::vector<io::InsRecord> records;
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();
+  for (int i = 0; i <= 6000; ++i) {
+    const double time = 0.01 * i;
+    double course = 0.0;
+    double speed = 10.0;
+    if (time >= 30.0 && time < 30.0 + 2.0 * kPi) {  // a half circle of 10 m at 5 m/s
+      course = 0.5 * (time - 30.0);
+      speed = 5.0;
+    } else if (time >= 30.0) {
+      course = kPi;
+    }
+    const Eigen::Vector2d velocity = speed * Eigen::Vector2d(std::cos(course), std::sin(course));
+    io::InsRecord record;
+    record.time = time;
+    record.velocity_enu = Eigen::Vector3d(velocity.x(), velocity.y(), 0.0);
+    record.position_enu = Eigen::Vector3d(position.x(), position.y(), 0.0);
+    records.push_back(record);  // attitude.yaw stays 0
+    position += 0.01 * velocity;
+  }
+  const std::vector<std::optional<VehicleMotion>> motion =
+      motion_from_ins(std::vector<double>{10.0, 45.0, 55.0}, records);
+  for (const std::optional<VehicleMotion>& at : motion) {
+    ASSERT_TRUE(at);
+    EXPECT_FALSE(at->reversing);
+  }
+  // The same drive with a heading that turns with it: nothing backs up either.
+  for (io::InsRecord& record : records) {
+    record.attitude.yaw = std::atan2(record.velocity_enu.y(), record.velocity_enu.x());
+  }
+  for (const std::optional<VehicleMotion>& at :
+       motion_from_ins(std::vector<double>{10.0, 45.0, 55.0}, records)) {
+    EXPECT_FALSE(at->reversing);
+  }
+}
+
+// A drive with turns whose heading turns with it, then backing up: told (the heading check passes).
+TEST(InsMotion, BackingUpIsToldOnADriveWithTurns) {
+  std::vector<io::InsRecord> records;
+  double heading = 0.3;
+  for (int i = 0; i <= 3800; ++i) {
+    const double time = 0.01 * i;
+    if ((time >= 10.0 && time < 16.0) || (time >= 20.0 && time < 23.0)) heading += 0.25 * 0.01;
+    const double speed = time < 30.0 ? 10.0 : (time < 32.0 ? 0.0 : -4.0);
+    const Eigen::Vector2d velocity = speed * Eigen::Vector2d(std::cos(heading), std::sin(heading));
+    io::InsRecord record;
+    record.time = time;
+    record.attitude.yaw = wrap_angle(heading + 0.4);  // the device mounted 0.4 rad off
+    record.velocity_enu = Eigen::Vector3d(velocity.x(), velocity.y(), 0.0);
+    records.push_back(record);
+  }
+  const std::vector<std::optional<VehicleMotion>> motion =
+      motion_from_ins(std::vector<double>{5.0, 13.0, 26.0, 34.0, 37.0}, records);
+  for (std::size_t f = 0; f < motion.size(); ++f) {
+    ASSERT_TRUE(motion[f]);
+    EXPECT_EQ(motion[f]->reversing, f >= 3) << f;
+  }
+}
+
+// One record whose course points back (a noisy velocity) does not make its frame a reversing one:
+// most records around the frame decide.
+TEST(InsMotion, OneRecordPointingBackDoesNotEndAStretch) {
+  std::vector<io::InsRecord> records =
+      drive_then_reverse(rad_from_deg(30.0), 0.0, /*with_velocity=*/true, 6.0);
+  records[1000].velocity_enu = -records[1000].velocity_enu;
+  const std::vector<std::optional<VehicleMotion>> motion =
+      motion_from_ins(std::vector<double>{10.0, 34.0}, records);
+  ASSERT_TRUE(motion[0] && motion[1]);
+  EXPECT_FALSE(motion[0]->reversing);
+  EXPECT_TRUE(motion[1]->reversing);
 }
 
 }  // namespace

@@ -29,8 +29,9 @@ std::vector<double> read_timestamps_file(const std::filesystem::path& path) {
     } else if (field.find(':') != std::string_view::npos) {
       // A date-time that does not parse: say so, not "not a number".
       throw InputError(path.string(), line.number, "timestamp",
-                       fmt::format("not a UTC date-time 'YYYY-MM-DD HH:MM:SS.fffffffff' ('T' "
-                                   "or a space between, 'Z' after; month 1-12, a day of that "
+                       fmt::format("not a UTC date-time 'YYYY-MM-DD HH:MM:SS.fffffffff' ('T', "
+                                   "'t' or a space between, 'Z', 'z', '+00:00', '+0000' or '+00' "
+                                   "after; month 1-12, a day of that "
                                    "month, hour 0-23, minute and second 0-59): '{}'",
                                    field));
     } else {

@@ -768,23 +768,27 @@
       strokeLine(context, ends, '#40c4ff', 2, [10, 6]);
       const height = Number(heightInput.value) || 1.5;
       const half = (Number(laneInput.value) || 3.5) / 2;
-      // A camera that looks back sees the road behind the car: its guides and cross lie that way.
+      // The road ahead of the car and behind it, each where the camera sees it (a camera that looks
+      // back, or one that looks sideways and sees both); the cross is the travel's vanishing point
+      // on the side the camera faces.
       const along = opticalFromVehicle(angles, [1, 0, 0])[2] >= 0 ? 1 : -1;
       let guidePoints = 0;
-      for (const side of [-3 * half, -half, half, 3 * half]) {
-        const points = [];
-        for (let x = 3; x <= 120; x *= 1.15) {
-          const pixel = project(frame, opticalFromVehicle(angles, [along * x, side, -height]));
-          if (pixel) points.push(pixel);
+      for (const direction of [1, -1]) {
+        for (const side of [-3 * half, -half, half, 3 * half]) {
+          const points = [];
+          for (let x = 3; x <= 120; x *= 1.15) {
+            const pixel = project(frame, opticalFromVehicle(angles, [direction * x, side, -height]));
+            if (pixel) points.push(pixel);
+          }
+          guidePoints += points.length;
+          context.save();
+          context.strokeStyle = Math.abs(side) < half * 2 ? '#ffea00' : 'rgba(255,234,0,0.5)';
+          context.lineWidth = 2;
+          context.beginPath();
+          points.forEach((p, i) => (i ? context.lineTo(p[0], p[1]) : context.moveTo(p[0], p[1])));
+          context.stroke();
+          context.restore();
         }
-        guidePoints += points.length;
-        context.save();
-        context.strokeStyle = Math.abs(side) < half * 2 ? '#ffea00' : 'rgba(255,234,0,0.5)';
-        context.lineWidth = 2;
-        context.beginPath();
-        points.forEach((p, i) => (i ? context.lineTo(p[0], p[1]) : context.moveTo(p[0], p[1])));
-        context.stroke();
-        context.restore();
       }
       cross(context, project(frame, opticalFromVehicle(angles, [along, 0, 0])), '#ff1744');
       canvas.setAttribute('data-guide-points', String(guidePoints));
