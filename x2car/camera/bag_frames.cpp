@@ -8,6 +8,8 @@
 #include <memory>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -15,6 +17,7 @@
 
 #include "x2car/core/error.hpp"
 #include "x2car/io/bag.hpp"
+#include "x2car/io/jpeg_data.hpp"
 #include "x2car/io/ros_camera_info.hpp"
 #include "x2car/io/ros_message.hpp"
 #include "x2car/io/text_lines.hpp"
@@ -119,6 +122,13 @@ cv::Mat decode_compressed_image(std::string_view bytes, io::RosEncoding encoding
   message.header();
   const std::string format = message.string("format");
   const std::string_view data = message.byte_sequence("data");
+  const std::span<const unsigned char> encoded_bytes(
+      reinterpret_cast<const unsigned char*>(data.data()), data.size());
+  if (io::starts_as_jpeg(encoded_bytes)) {
+    if (const std::optional<std::size_t> offset = io::jpeg_break_offset(encoded_bytes)) {
+      throw InputError(source, 0, "data", io::describe_jpeg_break(*offset, data.size()));
+    }
+  }
   cv::Mat grey;
   try {
     const cv::Mat encoded(1, static_cast<int>(data.size()), CV_8U, const_cast<char*>(data.data()));

@@ -10,7 +10,8 @@
 namespace x2car::camera {
 
 // Decodes one image as 8-bit grey; InputError naming the file when it is missing or cannot be
-// decoded (truncated, not an image).
+// decoded (truncated, not an image), and when it is a JPEG cut short (io/jpeg_data.hpp), which
+// the decoder would fill with grey.
 cv::Mat read_grey_image(const std::filesystem::path& path);
 
 // Times and a reader over the folder's images (the folder must outlive the source).

@@ -1,10 +1,13 @@
 #include "x2car/camera/camera_frames.hpp"
 
 #include <fmt/format.h>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
+#include <string>
+#include <vector>
 
 #include "x2car/camera/camera_test_support.hpp"
 #include "x2car/core/test_matchers.hpp"
@@ -62,6 +65,28 @@ TEST(CameraFrames, ABrokenImageNamesItsFile) {
   const CameraFrameSource frames = camera_frames_from(images);
   expect_input_error([&] { frames.read(0); }, (folder / "1.500000.png").string(), 0);
   EXPECT_EQ(frames.name(0), (folder / "1.500000.png").string());
+}
+
+// A JPEG cut short decodes without an error (its missing rows grey) and was taken as a good frame;
+// it names its file now, and a whole one still reads.
+TEST(CameraFrames, AJpegCutShortNamesItsFile) {
+  const fs::path folder = fresh_folder("jpeg_cut_short");
+  const core::CameraIntrinsics intrinsics = core::camera_preset("kitti");
+  std::vector<unsigned char> bytes;
+  ASSERT_TRUE(cv::imencode(".jpg", testing::draw_street({}, intrinsics), bytes));
+  const auto write = [&](const fs::path& path, std::size_t size) {
+    io::write_text_file(path, std::string(bytes.begin(), bytes.begin() + static_cast<long>(size)));
+  };
+  write(folder / "whole.jpg", bytes.size());
+  EXPECT_EQ(read_grey_image(folder / "whole.jpg").cols, intrinsics.width);
+  write(folder / "cut.jpg", bytes.size() * 2 / 3);
+  ASSERT_FALSE(cv::imread((folder / "cut.jpg").string(), cv::IMREAD_GRAYSCALE).empty());
+  const InputError cut = expect_input_error([&] { read_grey_image(folder / "cut.jpg"); },
+                                            (folder / "cut.jpg").string(), 0);
+  EXPECT_THAT(cut.what(), ::testing::HasSubstr("JPEG cut short"));
+  write(folder / "no_end.jpg", bytes.size() - 2);  // only the end-of-image marker missing
+  expect_input_error([&] { read_grey_image(folder / "no_end.jpg"); },
+                     (folder / "no_end.jpg").string(), 0);
 }
 
 // JPEG files are coded with loss (the motion estimator then tracks with its larger window); PNG
