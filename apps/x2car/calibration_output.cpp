@@ -100,8 +100,13 @@ std::string format_result_summary(const CalibrationResult& result) {
                            : "insufficient data";
     text = fmt::format("{}: {}: {}\n", result.sensor, what, result.reason);
     // What could be estimated is still shown (the LiDAR's ground when only its yaw lacks data, the
-    // angles of a fit that failed its checks); nothing is written as a mounting.
-    if (!result.roll && !result.pitch && !result.yaw && !result.z) return text;
+    // angles of a fit that failed its checks); nothing is written as a mounting. Without any, the
+    // counts still say why (every frame of a black video rejected as too_few_lines).
+    if (!result.roll && !result.pitch && !result.yaw && !result.z) {
+      if (!result.support.empty()) text += counts_line("support", result.support);
+      if (!result.rejections.empty()) text += counts_line("rejected", result.rejections);
+      return text;
+    }
     text += "  estimated so far (not a complete mounting):\n";
   } else {
     text += fmt::format("{}: vehicle_from_{} (method {}), {:.3f} s\n", result.sensor, result.sensor,

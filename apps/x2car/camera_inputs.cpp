@@ -24,12 +24,23 @@ bool is_kitti_calib(const fs::path& path) { return path.extension() == ".txt"; }
 
 core::CameraIntrinsics read_camera_intrinsics(const fs::path& path,
                                               const IntrinsicsSource& source) {
-  spdlog::info("intrinsics from {}", path.string());
   if (is_kitti_calib(path)) {
+    // Which keys: a KITTI file holds both cameras, and a wrong guess gives a wrong model silently.
+    const int index = source.camera_index.value_or(2);
+    if (source.unrectified) {
+      spdlog::info("intrinsics from {}: camera {:02d} unrectified (K_{:02d}, D_{:02d}, S_{:02d})",
+                   path.string(), index, index, index, index);
+    } else {
+      spdlog::info(
+          "intrinsics from {}: camera {:02d} rectified (P_rect_{:02d}, S_rect_{:02d}: KITTI's "
+          "synced+rectified images; --unrectified for K_{:02d} and D_{:02d})",
+          path.string(), index, index, index, index, index);
+    }
     return io::read_kitti_calib_cam(
         path, source.camera_index.value_or(2),
         source.unrectified ? io::KittiImages::kUnrectified : io::KittiImages::kRectified);
   }
+  spdlog::info("intrinsics from {}", path.string());
   if (camera::is_xml_file(path)) return camera::read_opencv_intrinsics_xml(path);
   return io::read_camera_info_yaml(path);
 }

@@ -725,6 +725,8 @@ TEST(CalibrateCamera, InsLogGatesTurningFrames) {
   EXPECT_EQ(gated.exit_code, 1) << gated.output;
   EXPECT_THAT(gated.output, HasSubstr("24 of 24 frames covered"));
   EXPECT_THAT(io::read_text_file(folder / "result.json"), HasSubstr("\"turning\": 24"));
+  // The summary says why too, though no angle was estimated (it printed the reason alone).
+  EXPECT_THAT(gated.output, HasSubstr("rejected: turning 24"));
   // A drive folder gives its log, as to calibrate ins (it was read as a KITTI OXTS folder).
   std::filesystem::copy_file(log, folder / "gnss.csv");
   io::write_text_file(folder / "x2car.yaml", "sensors:\n  gnss: {type: ins, input: gnss.csv}\n");

@@ -28,7 +28,7 @@ std::optional<std::size_t> jpeg_break_offset(std::span<const unsigned char> data
   std::size_t pos = 2;
   while (true) {
     if (pos >= size) return size;
-    if (data[pos] != kMarkerPrefix) return pos;  // where a marker must start
+    if (data[pos] != kMarkerPrefix) return pos;              // where a marker must start
     while (pos < size && data[pos] == kMarkerPrefix) ++pos;  // fill bytes
     if (pos >= size) return size;
     const unsigned char marker = data[pos++];
@@ -43,8 +43,8 @@ std::optional<std::size_t> jpeg_break_offset(std::span<const unsigned char> data
     if (marker != kStartOfScan) continue;
     // The scan's entropy-coded data, up to the next marker.
     while (true) {
-      const auto found = std::find(data.begin() + static_cast<std::ptrdiff_t>(pos), data.end(),
-                                   kMarkerPrefix);
+      const auto found =
+          std::find(data.begin() + static_cast<std::ptrdiff_t>(pos), data.end(), kMarkerPrefix);
       pos = static_cast<std::size_t>(found - data.begin());
       if (pos + 1 >= size) return size;
       const unsigned char next = data[pos + 1];

@@ -9,21 +9,23 @@ namespace {
 
 using JpegBytes = std::vector<unsigned char>;
 
-void append(JpegBytes& bytes, const JpegBytes& more) { bytes.insert(bytes.end(), more.begin(), more.end()); }
+void append(JpegBytes& bytes, const JpegBytes& more) {
+  bytes.insert(bytes.end(), more.begin(), more.end());
+}
 
 // The marker layout of a baseline JPEG, with an APP1 segment that holds a thumbnail (a whole JPEG
 // of its own), a scan whose entropy-coded data holds a stuffed 0xFF 0x00 and a restart marker, and
 // `tail` after EOI.
 JpegBytes jpeg(const JpegBytes& tail = {}) {
-  JpegBytes bytes = {0xFF, 0xD8};                                                  // SOI
-  append(bytes, {0xFF, 0xE0, 0x00, 0x06, 'J', 'F', 'I', 'F'});                // APP0
-  append(bytes, {0xFF, 0xE1, 0x00, 0x0B,                    // APP1, 9 bytes: a thumbnail's
-                 0xFF, 0xD8, 0xFF, 0xDA, 0x00, 0x02, 0x11,  // SOI, SOS, ...
-                 0xFF, 0xD9});                              // ... and EOI
-  append(bytes, {0xFF, 0xC0, 0x00, 0x04, 0x08, 0x00});                        // SOF0
-  append(bytes, {0xFF, 0xDA, 0x00, 0x03, 0x01});                              // SOS
-  append(bytes, {0x12, 0x34, 0xFF, 0x00, 0x56, 0xFF, 0xD0, 0x78, 0x9A});      // scan data
-  append(bytes, {0xFF, 0xFF, 0xD9});                                          // fill, EOI
+  JpegBytes bytes = {0xFF, 0xD8};                               // SOI
+  append(bytes, {0xFF, 0xE0, 0x00, 0x06, 'J', 'F', 'I', 'F'});  // APP0
+  append(bytes, {0xFF, 0xE1, 0x00, 0x0B,                        // APP1, 9 bytes: a thumbnail's
+                 0xFF, 0xD8, 0xFF, 0xDA, 0x00, 0x02, 0x11,      // SOI, SOS, ...
+                 0xFF, 0xD9});                                  // ... and EOI
+  append(bytes, {0xFF, 0xC0, 0x00, 0x04, 0x08, 0x00});          // SOF0
+  append(bytes, {0xFF, 0xDA, 0x00, 0x03, 0x01});                // SOS
+  append(bytes, {0x12, 0x34, 0xFF, 0x00, 0x56, 0xFF, 0xD0, 0x78, 0x9A});  // scan data
+  append(bytes, {0xFF, 0xFF, 0xD9});                                      // fill, EOI
   append(bytes, tail);
   return bytes;
 }
@@ -58,7 +60,8 @@ TEST(JpegData, BrokenMarkersAndOtherDataAreNotWhole) {
   EXPECT_EQ(jpeg_break_offset(short_length), 4U);
   EXPECT_EQ(describe_jpeg_break(100, 100),
             "a JPEG cut short: its data ends after 100 bytes, before its end-of-image marker");
-  EXPECT_EQ(describe_jpeg_break(4, 100), "a JPEG cut short: its markers break off at byte 4 of 100");
+  EXPECT_EQ(describe_jpeg_break(4, 100),
+            "a JPEG cut short: its markers break off at byte 4 of 100");
 }
 
 }  // namespace
