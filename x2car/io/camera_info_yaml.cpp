@@ -219,6 +219,18 @@ void set_camera_info_distortion(CameraIntrinsics& c, DistortionModel model, std:
       c.distortion_coefficients.clear();
       return;
     }
+    // OpenCV's 8, 12 or 14 coefficients (rational k4-k6, thin prism s1-s4, tilt tau_x, tau_y),
+    // which some tools write whatever model they fitted: zeros beyond k3 are plumb_bob's five.
+    const bool opencv_count = d.size() == 8 || d.size() == 12 || d.size() == 14;
+    if (opencv_count && std::all_of(d.begin() + 5, d.end(), [](double v) { return v == 0.0; })) {
+      d.resize(5);
+    } else if (opencv_count) {
+      throw std::invalid_argument(fmt::format(
+          "{} coefficients with k4 or more not 0: OpenCV's rational, thin-prism or tilted model "
+          "(8, 12 or 14 coefficients), which x2car does not read; plumb_bob has 5 "
+          "(k1 k2 p1 p2 k3), equidistant 4",
+          d.size()));
+    }
   }
   const std::size_t expected = core::distortion_coefficient_count(model);
   if (d.size() != expected) {

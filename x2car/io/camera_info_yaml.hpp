@@ -57,8 +57,9 @@ core::CameraIntrinsics parse_camera_info_yaml(std::string_view text,
 // ros_camera_info.hpp). The model of a distortion_model name: plumb_bob, equidistant (or OpenCV's
 // fisheye); std::invalid_argument for rational_polynomial or an unknown name.
 core::DistortionModel camera_info_distortion_model(std::string_view name);
-// Sets the coefficients for `model`: plumb_bob takes 4 (k3 = 0) or 5, and no or all-zero
-// coefficients mean no distortion; std::invalid_argument for a count that does not fit.
+// Sets the coefficients for `model`: plumb_bob takes 4 (k3 = 0) or 5, or OpenCV's 8, 12 or 14
+// with zeros beyond k3; no or all-zero coefficients mean no distortion; std::invalid_argument for
+// a count that does not fit (OpenCV's rational model named as such).
 void set_camera_info_distortion(core::CameraIntrinsics& intrinsics, core::DistortionModel model,
                                 std::vector<double> coefficients);
 

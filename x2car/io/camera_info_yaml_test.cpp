@@ -115,6 +115,27 @@ TEST(CameraInfoYaml, ReadsOpenCvFileStorageCalibration) {
                                      "distortion_coefficients.data[1]");
 }
 
+// OpenCV's 8 (and 12, 14) coefficients: zeros beyond k3 are plumb_bob's five (they were refused
+// as "the plumb_bob model has 5 coefficients, found 8"); a rational model is refused saying so.
+TEST(CameraInfoYaml, OpenCvsLongerCoefficientListsWithZerosBeyondK3ArePlumbBob) {
+  const std::string head =
+      "%YAML:1.0\n---\nimage_width: 1280\nimage_height: 720\ncamera_matrix: !!opencv-matrix\n"
+      "   rows: 3\n   cols: 3\n   dt: d\n   data: [ 9.1e+02, 0., 6.4e+02, 0., 9.2e+02, 3.6e+02, "
+      "0., 0., 1. ]\ndistortion_coefficients: !!opencv-matrix\n   rows: 1\n";
+  const CameraIntrinsics c = parse_camera_info_yaml(
+      head + "   cols: 8\n   dt: d\n   data: [ -0.2, 0.05, 0., 0., 0.01, 0., 0., 0. ]\n", kFile);
+  EXPECT_EQ(c.distortion_model, DistortionModel::kPlumbBob);
+  EXPECT_EQ(c.distortion_coefficients, (std::vector<double>{-0.2, 0.05, 0.0, 0.0, 0.01}));
+  const std::string rational =
+      head + "   cols: 8\n   dt: d\n   data: [ -0.2, 0.05, 0., 0., 0.01, 0.5, 0.2, 0.1 ]\n";
+  try {
+    parse_camera_info_yaml(rational, kFile);
+    ADD_FAILURE() << "a rational model was read";
+  } catch (const InputError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("OpenCV's rational"));
+  }
+}
+
 std::string with(const std::string& replaced, const std::string& by) {
   std::string text = format_camera_info_yaml(distorted());
   const std::size_t at = text.find(replaced);
