@@ -3,9 +3,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <map>
 #include <optional>
+#include <set>
 #include <stdexcept>
 #include <vector>
 
@@ -45,6 +47,10 @@ class Entries {
       const std::size_t colon = line.text.find(':');
       if (colon == std::string_view::npos) continue;
       const std::string key(trim(line.text.substr(0, colon)));
+      if (key.size() > 3 && key[key.size() - 3] == '_' && key[key.size() - 2] == '0' &&
+          std::isdigit(static_cast<unsigned char>(key.back())) != 0) {
+        cameras_.insert(key.substr(key.size() - 2));
+      }
       if (!key.ends_with(suffix_)) continue;
       if (entries_.contains(key)) {
         throw InputError(source_, line.number, key,
@@ -56,12 +62,22 @@ class Entries {
 
   bool has(const std::string& name) const { return entries_.contains(name + suffix_); }
 
+  // "missing key", and which cameras the file holds when it holds none of this one's keys (a KITTI
+  // file has cameras 00-03; --camera-index picks one).
+  std::string missing_key_message() const {
+    if (!entries_.empty() || cameras_.empty()) return "missing key";
+    std::string held;
+    for (const std::string& camera : cameras_) held += (held.empty() ? "" : ", ") + camera;
+    return fmt::format("missing key: the file holds no camera {} (its cameras: {})",
+                       suffix_.substr(1), held);
+  }
+
   // The numbers of NAME_0X; `counts` lists the counts allowed.
   std::vector<double> values(const std::string& name, std::initializer_list<std::size_t> counts,
                              std::size_t* line_out = nullptr) const {
     const std::string key = name + suffix_;
     const auto it = entries_.find(key);
-    if (it == entries_.end()) throw InputError(source_, 0, key, "missing key");
+    if (it == entries_.end()) throw InputError(source_, 0, key, missing_key_message());
     const Entry& entry = it->second;
     if (line_out) *line_out = entry.line;
     std::vector<double> parsed;
@@ -129,7 +145,8 @@ class Entries {
 
  private:
   std::string source_;
-  std::string suffix_;  // "_02"
+  std::string suffix_;             // "_02"
+  std::set<std::string> cameras_;  // "00", "02", ...: the suffixes of the file's keys
   std::map<std::string, Entry> entries_;
 };
 

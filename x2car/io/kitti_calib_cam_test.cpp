@@ -53,6 +53,11 @@ TEST(KittiCalibCam, ReadsKittiRawCamera02BothWays) {
   // Camera 00 has no D_00 here: named, with the file.
   x2car::testing::expect_input_error(
       [] { parse_kitti_calib_cam(kKitti, kFile, 0, KittiImages::kUnrectified); }, kFile, 0, "D_00");
+  // Camera 03 has no key at all: the message says which cameras the file holds.
+  const InputError none = x2car::testing::expect_input_error(
+      [] { parse_kitti_calib_cam(kKitti, kFile, 3, KittiImages::kRectified); }, kFile, 0,
+      "S_rect_03");
+  EXPECT_THAT(none.what(), HasSubstr("the file holds no camera 03 (its cameras: 00, 02)"));
 }
 
 TEST(KittiCalibCam, EveryPresetRoundTripsExactlyAsCamera02) {
