@@ -9,7 +9,6 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
-#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -122,12 +121,9 @@ cv::Mat decode_compressed_image(std::string_view bytes, io::RosEncoding encoding
   message.header();
   const std::string format = message.string("format");
   const std::string_view data = message.byte_sequence("data");
-  const std::span<const unsigned char> encoded_bytes(
-      reinterpret_cast<const unsigned char*>(data.data()), data.size());
-  if (io::starts_as_jpeg(encoded_bytes)) {
-    if (const std::optional<std::size_t> offset = io::jpeg_break_offset(encoded_bytes)) {
-      throw InputError(source, 0, "data", io::describe_jpeg_break(*offset, data.size()));
-    }
+  if (const std::optional<std::string> cut =
+          io::jpeg_cut_short({reinterpret_cast<const unsigned char*>(data.data()), data.size()})) {
+    throw InputError(source, 0, "data", *cut);
   }
   cv::Mat grey;
   try {

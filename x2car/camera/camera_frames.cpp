@@ -3,47 +3,36 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <optional>
-#include <vector>
+#include <span>
+#include <string>
 
 #include "x2car/core/error.hpp"
 #include "x2car/io/file_extension.hpp"
 #include "x2car/io/jpeg_data.hpp"
+#include "x2car/io/text_lines.hpp"
 
 namespace x2car::camera {
 
-namespace {
-
-// InputError when the file is a JPEG cut short (io/jpeg_data.hpp): the decoder would fill its
-// missing rows with grey and raise no error.
-void check_jpeg_whole(const std::filesystem::path& path) {
-  std::ifstream stream(path, std::ios::binary);
-  unsigned char start[2] = {0, 0};
-  if (!stream.read(reinterpret_cast<char*>(start), 2) || !io::starts_as_jpeg(start)) return;
-  stream.seekg(0, std::ios::end);
-  const auto size = static_cast<std::size_t>(std::max<std::streamoff>(0, stream.tellg()));
-  std::vector<unsigned char> bytes(size);
-  stream.seekg(0);
-  if (!stream.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size))) {
-    throw InputError(path.string(), "read error");
-  }
-  if (const std::optional<std::size_t> offset = io::jpeg_break_offset(bytes)) {
-    throw InputError(path.string(), fmt::format("is {} (truncated or corrupt)",
-                                                io::describe_jpeg_break(*offset, size)));
-  }
-}
-
-}  // namespace
-
+// The file is read once and decoded from memory, so that a JPEG cut short (io/jpeg_data.hpp),
+// which the decoder would fill with grey without an error, is told from the same bytes.
 cv::Mat read_grey_image(const std::filesystem::path& path) {
-  check_jpeg_whole(path);
-  cv::Mat image;
-  try {
-    image = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
-  } catch (const cv::Exception& error) {
-    throw InputError(path.string(), std::string("cannot be decoded: ") + error.what());
+  const std::string bytes = io::read_text_file(path);  // binary: the bytes as they are
+  const std::span<const unsigned char> data(reinterpret_cast<const unsigned char*>(bytes.data()),
+                                            bytes.size());
+  if (const std::optional<std::string> cut = io::jpeg_cut_short(data)) {
+    throw InputError(path.string(), fmt::format("is {} (truncated or corrupt)", *cut));
+  }
+  cv::Mat image;  // stays empty for an empty file (imdecode asserts on one)
+  if (!bytes.empty()) {
+    try {
+      const cv::Mat encoded(1, static_cast<int>(bytes.size()), CV_8U,
+                            const_cast<char*>(bytes.data()));
+      image = cv::imdecode(encoded, cv::IMREAD_GRAYSCALE);
+    } catch (const cv::Exception& error) {
+      throw InputError(path.string(), std::string("cannot be decoded: ") + error.what());
+    }
   }
   if (image.empty()) {
     throw InputError(path.string(),

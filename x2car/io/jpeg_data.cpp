@@ -62,4 +62,11 @@ std::string describe_jpeg_break(std::size_t offset, std::size_t size) {
   return fmt::format("a JPEG cut short: its markers break off at byte {} of {}", offset, size);
 }
 
+std::optional<std::string> jpeg_cut_short(std::span<const unsigned char> data) {
+  if (!starts_as_jpeg(data)) return std::nullopt;
+  const std::optional<std::size_t> offset = jpeg_break_offset(data);
+  if (!offset) return std::nullopt;
+  return describe_jpeg_break(*offset, data.size());
+}
+
 }  // namespace x2car::io

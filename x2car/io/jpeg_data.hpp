@@ -23,6 +23,10 @@ bool starts_as_jpeg(std::span<const unsigned char> data);
 // before its EOI or where its markers break off. Data that does not start as a JPEG gives 0.
 std::optional<std::size_t> jpeg_break_offset(std::span<const unsigned char> data);
 
+// What is wrong with the data when it starts as a JPEG and is not whole ("a JPEG cut short: ...",
+// describe_jpeg_break); nullopt when it is whole or no JPEG at all (another decoder's concern).
+std::optional<std::string> jpeg_cut_short(std::span<const unsigned char> data);
+
 // For an error message: "a JPEG cut short: its data ends after 40765 bytes, before its end-of-image
 // marker", or "... its markers break off at byte 812 of 40765".
 std::string describe_jpeg_break(std::size_t offset, std::size_t size);
