@@ -20,6 +20,7 @@ using namespace x2car;
 camera::testing::StreetScene scene(std::size_t index) {
   camera::testing::StreetScene street;
   street.vehicle_from_camera = {rad_from_deg(1.0), rad_from_deg(2.0), rad_from_deg(-1.5)};
+  street.travelled_m = static_cast<double>(index);  // 10 m/s at 10 Hz: a standing car is refused
   street.noise_seed = index + 1;
   return street;
 }

@@ -200,8 +200,10 @@ int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
       arguments.camera_index ? arguments.camera_index : folder.kitti_camera_index,
       arguments.unrectified};
   std::optional<core::CameraIntrinsics> intrinsics_read = bag_intrinsics;
+  bool kitti_keys_read = false;
   if (!bag_intrinsics || !arguments.intrinsics_path.empty()) {
     const fs::path intrinsics_file = find_intrinsics_file(arguments.input_path, intrinsics_source);
+    kitti_keys_read = is_kitti_calib(intrinsics_file);
     // The files found outside the input folder (a KITTI day's calib_cam_to_cam.txt, a data
     // folder's ../timestamps.txt, a video's intrinsics beside it) are inputs too.
     check_output_arguments(arguments.output, {{{"intrinsics", intrinsics_file.string()},
@@ -209,6 +211,14 @@ int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
     intrinsics_read = read_camera_intrinsics(intrinsics_file, intrinsics_source);
   }
   const core::CameraIntrinsics intrinsics = *intrinsics_read;
+  // --camera-index picks KITTI raw's image_0X/ and the _0X keys of calib_cam_to_cam.txt; with
+  // neither in use it picks nothing, which whoever gave it should hear.
+  if (arguments.camera_index && !folder.kitti_camera_index && !kitti_keys_read) {
+    spdlog::warn(
+        "--camera-index {} is unused: it picks a KITTI raw camera (image_{:02d}/) and its keys of "
+        "a calib_cam_to_cam.txt, and neither the input nor the intrinsics are those",
+        *arguments.camera_index, *arguments.camera_index);
+  }
   if (arguments.mask == kNoMask) {
     options.detect_car_region = false;
   } else if (!arguments.mask.empty()) {

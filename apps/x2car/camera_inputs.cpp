@@ -14,13 +14,9 @@
 #include "x2car/io/kitti_calib_cam.hpp"
 
 namespace x2car::cli {
-namespace {
-
 namespace fs = std::filesystem;
 
 bool is_kitti_calib(const fs::path& path) { return path.extension() == ".txt"; }
-
-}  // namespace
 
 core::CameraIntrinsics read_camera_intrinsics(const fs::path& path,
                                               const IntrinsicsSource& source) {

@@ -24,6 +24,9 @@ struct IntrinsicsSource {
 std::filesystem::path find_intrinsics_file(const std::string& input_path,
                                            const IntrinsicsSource& source);
 
+// Whether `path` is read as a KITTI calib_cam_to_cam.txt (by its extension, .txt).
+bool is_kitti_calib(const std::filesystem::path& path);
+
 // The intrinsics in `path` (a ROS camera_info or OpenCV YAML, an OpenCV FileStorage .xml, or a
 // KITTI calib_cam_to_cam.txt, whose keys of camera source.camera_index, default 2, are read).
 core::CameraIntrinsics read_camera_intrinsics(const std::filesystem::path& path,

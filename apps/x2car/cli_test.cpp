@@ -645,7 +645,8 @@ TEST(CalibrateLidar, BadFoldersExitWithTwoAndTooFewSweepsWithOne) {
 }
 
 // A drive folder as the simulator lays it out (camera/images/, timestamps.txt, intrinsics.yaml),
-// with synthetic street images seen from a known mounting (camera/camera_test_support.hpp).
+// with synthetic street images seen from a known mounting (camera/camera_test_support.hpp), the
+// car driving at 10 m/s.
 std::filesystem::path write_camera_drive(const std::string& name, int frames) {
   const auto folder = std::filesystem::path(::testing::TempDir()) / name;
   std::filesystem::remove_all(folder);
@@ -656,6 +657,7 @@ std::filesystem::path write_camera_drive(const std::string& name, int frames) {
   for (int i = 0; i < frames; ++i) {
     camera::testing::StreetScene scene;
     scene.vehicle_from_camera = {0.02, 0.05, -0.03};  // [rad]
+    scene.travelled_m = 1.0 * i;
     scene.noise_seed = static_cast<std::uint64_t>(i + 1);
     char file[32];
     std::snprintf(file, sizeof file, "%010d.png", i);
@@ -689,6 +691,14 @@ TEST(CalibrateCamera, RecoversTheMountingFromAFolderOfImages) {
       io::read_text_file(folder / "camera.urdf"),
       HasSubstr("<parent link=\"camera\"/>\n  <child link=\"camera_optical_frame\"/>\n  "
                 "<origin xyz=\"0 0 0\" rpy=\"-1.5707963267948966 0 -1.5707963267948966\"/>"));
+
+  // --camera-index picks a KITTI camera; for a simulator's folder and ROS intrinsics it picks
+  // nothing, and says so (it was silent).
+  const CliRun indexed = run_x2car("calibrate camera --input " + folder.string() +
+                                   " --window-frames 12 --camera-index 3 --without-series");
+  EXPECT_EQ(indexed.exit_code, 0) << indexed.output;
+  EXPECT_THAT(indexed.output, HasSubstr("--camera-index 3 is unused"));
+  EXPECT_THAT(calibrate.output, Not(HasSubstr("is unused")));
 
   // A mask whose black rows (the bottom 40) are left out: the same mounting, the share said.
   cv::Mat mask(375, 1242, CV_8U, cv::Scalar(255));
@@ -1095,6 +1105,12 @@ TEST(CalibrateIns, FindsTheLogInADriveFolder) {
   EXPECT_EQ(over_log.exit_code, 2) << over_log.output;
   EXPECT_THAT(over_log.output, HasSubstr("never writes over the data it reads"));
   EXPECT_EQ(io::read_text_file(log), log_text);
+  // A folder where no file can be made (as root, access() lets /proc pass): not "No such file".
+  const CliRun into_proc =
+      run_x2car("calibrate ins --input " + log.string() + " --out /proc/x2car.json");
+  EXPECT_EQ(into_proc.exit_code, 2) << into_proc.output;
+  EXPECT_THAT(into_proc.output, HasSubstr("the folder /proc is not writable"));
+  EXPECT_THAT(into_proc.output, Not(HasSubstr("No such file")));
   // A vendor's header read through --columns: the same result as x2car's own names.
   std::string csv = io::read_text_file(folder / "ins" / "ins.csv");
   const std::string header = "time,x,y,z,vx,vy,vz,roll,pitch,yaw\n";

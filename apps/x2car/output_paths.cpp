@@ -39,7 +39,10 @@ std::string why_not_writable(const fs::path& folder) {
   if (access(folder.c_str(), W_OK) != 0) return std::strerror(errno);
   std::string probe = (folder / ".x2car-write-check-XXXXXX").string();
   const int descriptor = mkstemp(probe.data());
-  if (descriptor < 0) return std::strerror(errno);
+  // Where no file can be made (/proc, /sys) the kernel says "No such file or directory" of the
+  // new file, which reads as if the folder were missing.
+  if (descriptor < 0)
+    return errno == ENOENT ? "no file can be created in it" : std::strerror(errno);
   close(descriptor);
   unlink(probe.c_str());
   return {};

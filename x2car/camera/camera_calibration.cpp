@@ -14,6 +14,7 @@
 #include <opencv2/core.hpp>
 #include <thread>
 
+#include "x2car/camera/corner_tracks.hpp"
 #include "x2car/camera/facing_check.hpp"
 #include "x2car/camera/grey_image.hpp"
 #include "x2car/camera/vanishing_rotation.hpp"
@@ -33,6 +34,7 @@ void CameraCalibrationOptions::Check() const {
     check.positive("facing_pair_interval_s", facing_pair_interval_s);
     check.at_least("facing_pair_max_gap_s", facing_pair_max_gap_s, facing_pair_interval_s);
   }
+  if (refuse_standing) standing_check.Check();
   check.at_least("noisy_estimator_block_frames", noisy_estimator_block_frames, 1);
   check.at_least("estimator_min_windows", estimator_min_windows, 1);
   check.at_least("estimator_standard_error_floor", estimator_standard_error_floor, 0.0);
@@ -640,6 +642,39 @@ IgnoredRegion find_ignored_region(const CameraFrameSource& frames,
   return {std::move(region), found};
 }
 
+// Frames for the checks after the run: an unreadable image (skip_bad_images) is empty, and the
+// pair it is in tells nothing.
+std::function<cv::Mat(std::size_t)> read_or_empty(FrameReader& reader) {
+  return [&reader](std::size_t index) {
+    try {
+      return reader.read(index);
+    } catch (const InputError&) {
+      return cv::Mat();
+    }
+  };
+}
+
+// Refuses the steady windows the car stood through (standing_check.hpp). Those whose every frame
+// had the car's motion (`--ins`) are not looked at: the speed gate kept standing frames out.
+void refuse_standing(const CameraFrameSource& frames, TemporalFilter& filter, FrameReader& reader,
+                     const cv::Mat& ignored_region, const CameraCalibrationOptions& options) {
+  if (!options.refuse_standing) return;
+  const std::vector<FilterWindow>& windows = filter.windows();
+  std::vector<std::pair<std::size_t, std::size_t>> spans;
+  std::vector<std::size_t> looked_at;
+  for (std::size_t k = 0; k < windows.size(); ++k) {
+    if (windows[k].vehicle_motion_known) continue;
+    spans.emplace_back(windows[k].first_frame, windows[k].last_frame);
+    looked_at.push_back(k);
+  }
+  if (spans.empty()) return;
+  const std::vector<WindowMotionCheck> checks = check_standing(
+      read_or_empty(reader), frames.times, spans, ignored_region, options.standing_check);
+  std::vector<bool> stood(windows.size(), false);
+  for (std::size_t i = 0; i < checks.size(); ++i) stood[looked_at[i]] = checks[i].stood();
+  filter.refuse_standing_windows(stood);
+}
+
 // The vanishing point gives the car's x axis only up to its sign (facing_check.hpp): the images'
 // motion over the steady windows' frame pairs says whether the camera looks back, and then its
 // yaw is turned by 180 deg: R_V_B -> Rz(pi) R_V_B reverses the car's x and y axes in the camera
@@ -675,29 +710,14 @@ std::optional<std::string> settle_facing(
   // own jitter, when that is not too far on to track.
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
   for (const FilterWindow& window : windows) {
-    std::size_t later = window.first_frame;
-    for (std::size_t i = window.first_frame; i < window.last_frame; ++i) {
-      later = std::max(later, i + 1);
-      while (later < window.last_frame &&
-             frames.times[later] - frames.times[i] < options.facing_pair_interval_s - 1e-6) {
-        ++later;
-      }
-      const double gap_s = frames.times[later] - frames.times[i];
-      if (gap_s >= options.facing_pair_interval_s - 1e-6 &&
-          gap_s <= options.facing_pair_max_gap_s) {
-        pairs.emplace_back(i, later);
-      }
-    }
+    const auto in_window =
+        frame_pairs_in(frames.times, window.first_frame, window.last_frame,
+                       options.facing_pair_interval_s, options.facing_pair_max_gap_s);
+    pairs.insert(pairs.end(), in_window.begin(), in_window.end());
   }
-  const auto read = [&reader](std::size_t index) {
-    try {
-      return reader.read(index);
-    } catch (const InputError&) {
-      return cv::Mat();  // an unreadable image (skip_bad_images) does not vote
-    }
-  };
-  const FacingCheck check = check_facing(read, pairs, intrinsics, geometry->vanishing_point_px,
-                                         ignored_region, options.facing_check);
+  const FacingCheck check =
+      check_facing(read_or_empty(reader), pairs, intrinsics, geometry->vanishing_point_px,
+                   ignored_region, options.facing_check);
   result.support["facing_pairs_flowing_out"] = static_cast<std::int64_t>(check.expanding);
   result.support["facing_pairs_flowing_in"] = static_cast<std::int64_t>(check.contracting);
   const std::size_t moving = check.expanding + check.contracting;
@@ -750,6 +770,7 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
   std::vector<FrameVerdict> verdicts;
   const std::vector<FrameRecord> records =
       run_frames(frames, reader, intrinsics, options, estimators, filter, verdicts);
+  refuse_standing(frames, filter, reader, ignored.region, options);
   const FilterEstimate estimate = filter.current();
 
   CalibrationResult result;
@@ -765,6 +786,10 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
         static_cast<std::int64_t>(estimate.windows_refused_turning);
     result.support["windows_refused_accelerating"] =
         static_cast<std::int64_t>(estimate.windows_refused_accelerating);
+  }
+  if (estimate.windows_refused_standing > 0) {
+    result.support["windows_refused_standing"] =
+        static_cast<std::int64_t>(estimate.windows_refused_standing);
   }
   count_frames(records, verdicts, result);
   if (run_filter.steadiness_block_frames > 1) {

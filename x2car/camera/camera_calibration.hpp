@@ -22,6 +22,7 @@
 #include "x2car/camera/frame_estimate.hpp"
 #include "x2car/camera/geometric_estimator.hpp"
 #include "x2car/camera/road_plane_motion.hpp"
+#include "x2car/camera/standing_check.hpp"
 #include "x2car/camera/temporal_filter.hpp"
 #include "x2car/core/calibration_result.hpp"
 #include "x2car/core/camera_model.hpp"
@@ -161,6 +162,13 @@ struct CameraCalibrationOptions {
   // within the camera's own jitter), if that is at most facing_pair_max_gap_s later [s].
   double facing_pair_interval_s = 0.2;
   double facing_pair_max_gap_s = 0.5;
+  // Whether a steady window the images show the car standing through is refused
+  // (standing_check.hpp: a car at a light passes the window's steadiness test without driving, its
+  // repeated view takes the largest weight of all, and it may wait at an angle to its lane).
+  // Windows whose every frame had the car's motion (`--ins`) are not looked at: its speed gated
+  // standing frames.
+  bool refuse_standing = true;
+  StandingCheckOptions standing_check;
   // A frame whose `read` throws InputError (a truncated or corrupt image) is skipped and counted
   // (rejections["unreadable_image"], the first message in `reason`). Off: the InputError ends the
   // run. An image whose size is not the intrinsics' always ends it (the wrong intrinsics).

@@ -27,16 +27,18 @@ using x2car::testing::AngleNearDeg;
 
 const EulerAngles kMounting{rad_from_deg(1.5), rad_from_deg(3.0), rad_from_deg(-2.0)};
 
-// A short drive down a straight street at 10 Hz: the driver weaves in the lane (the road's heading
-// against the car swings by +-0.05 deg), `turn_rate` [rad/s] turns the road's direction over time.
-CameraFrameSource street_drive(std::size_t count, double turn_rate = 0.0) {
+// A short drive down a straight street at 10 Hz and 10 m/s: the driver weaves in the lane (the
+// road's heading against the car swings by +-0.05 deg), `turn_rate` [rad/s] turns the road's
+// direction over time; the car stands for the first `stand_s` [s].
+CameraFrameSource street_drive(std::size_t count, double turn_rate = 0.0, double stand_s = 0.0) {
   CameraFrameSource frames;
   for (std::size_t i = 0; i < count; ++i)
     frames.times.push_back(100.0 + 0.1 * static_cast<double>(i));
-  frames.read = [turn_rate](std::size_t index) {
+  frames.read = [turn_rate, stand_s](std::size_t index) {
     const double time = 0.1 * static_cast<double>(index);
     testing::StreetScene scene;
     scene.vehicle_from_camera = kMounting;
+    scene.travelled_m = 10.0 * std::max(0.0, time - stand_s);
     scene.road_heading = rad_from_deg(0.05) * std::sin(0.7 * time) + turn_rate * time;
     scene.noise_seed = index + 1;
     return testing::draw_street(scene, core::camera_preset("kitti"));
@@ -96,6 +98,33 @@ TEST(CalibrateCamera, RecoversTheMountingOfAStreetDrive) {
     EXPECT_EQ(series.value.size(), 36U) << series.name;
     EXPECT_EQ(series.time.size(), 36U) << series.name;
   }
+}
+
+// A car standing at a light passes the window's steadiness test without driving: one view
+// repeated, the smallest spread and so the largest weight of all. The images show it stood, and
+// the window is refused and counted (before, a car that never moved calibrated `ok`). Without
+// the car's motion only; with it, its speed gates such frames.
+TEST(CalibrateCamera, WindowsTheCarStoodThroughAreRefused) {
+  const CalibrationResult standing =
+      calibrate_camera(street_drive(36, 0.0, 10.0), core::camera_preset("kitti"), short_windows());
+  EXPECT_EQ(standing.status, CalibrationStatus::kInsufficientData);
+  EXPECT_THAT(
+      standing.reason,
+      ::testing::HasSubstr("the car stood through 3 steady windows of 12 frames, all there were"));
+  EXPECT_EQ(standing.support.at("windows_refused_standing"), 3);
+  EXPECT_FALSE(standing.roll || standing.pitch || standing.yaw);
+
+  const CalibrationResult drives_off =
+      calibrate_camera(street_drive(36, 0.0, 1.2), core::camera_preset("kitti"), short_windows());
+  ASSERT_TRUE(drives_off.ok()) << drives_off.reason;
+  EXPECT_EQ(drives_off.support.at("windows"), 2);
+  EXPECT_EQ(drives_off.support.at("windows_refused_standing"), 1);
+  EXPECT_THAT(*drives_off.yaw, AngleNearDeg(kMounting.yaw, 0.1));
+
+  CameraCalibrationOptions kept = short_windows();
+  kept.refuse_standing = false;
+  EXPECT_TRUE(
+      calibrate_camera(street_drive(36, 0.0, 10.0), core::camera_preset("kitti"), kept).ok());
 }
 
 // A camera that looks back sees the road's vanishing point where one that looks ahead does: only
@@ -159,9 +188,12 @@ TEST(CalibrateCamera, ACameraThatLooksBackIsFoundByTheImagesMotion) {
   EXPECT_THAT(*told.yaw, AngleNearDeg(rear_mounting.yaw, 0.1));
   EXPECT_THAT(told.reason, ::testing::HasSubstr("looks back (given)"));
 
-  // A street that does not move (the car standing): taken as looking ahead, and said.
+  // A street that does not move (the car standing; its windows kept): taken as looking ahead,
+  // and said.
+  CameraCalibrationOptions standing_kept = short_windows();
+  standing_kept.refuse_standing = false;
   const CalibrationResult standing =
-      calibrate_camera(street_drive(24), core::camera_preset("kitti"), short_windows());
+      calibrate_camera(street_drive(24, 0.0, 10.0), core::camera_preset("kitti"), standing_kept);
   ASSERT_TRUE(standing.ok()) << standing.reason;
   EXPECT_THAT(standing.reason, ::testing::HasSubstr("taken as looking ahead"));
 }
@@ -271,11 +303,10 @@ TEST(CalibrateCamera, BlankFramesAreCountedByReason) {
 
 // The motion estimator follows each frame's road back through the frames before it (3 frames in
 // all): the first two frames, and those whose span holds a gap longer than max_pair_gap_s, have
-// too few. The street of these tests stands still (the
-// drawn scene does not move with the car), so the pairs that are made see no travel: a reason for
-// every frame, never a number.
+// too few. The car stands, so the pairs that are made see no travel: a reason for every frame,
+// never a number.
 TEST(CalibrateCamera, MotionPairsFramesAndCountsWhyNot) {
-  CameraFrameSource frames = street_drive(6);
+  CameraFrameSource frames = street_drive(6, 0.0, 10.0);
   frames.times[3] += 0.5;  // a gap between frames 2 and 3: frames 3 and 4 span it
   frames.times[4] += 0.5;
   frames.times[5] += 0.5;

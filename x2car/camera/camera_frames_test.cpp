@@ -38,6 +38,7 @@ TEST(CameraFrames, CalibratesADriveFromPngFiles) {
   for (int i = 0; i < 24; ++i) {
     testing::StreetScene scene;
     scene.vehicle_from_camera = mounting;
+    scene.travelled_m = 1.0 * i;  // 10 m/s: a car standing still would be refused
     scene.noise_seed = static_cast<std::uint64_t>(i + 1);
     cv::imwrite((drive / fmt::format("camera/images/{:010d}.png", i)).string(),
                 testing::draw_street(scene, intrinsics));

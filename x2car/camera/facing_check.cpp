@@ -2,11 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <opencv2/imgproc.hpp>
-#include <opencv2/video/tracking.hpp>
 #include <optional>
 #include <utility>
 
+#include "x2car/camera/corner_tracks.hpp"
 #include "x2car/camera/grey_image.hpp"
 #include "x2car/core/options_check.hpp"
 #include "x2car/core/robust_stats.hpp"
@@ -26,8 +25,6 @@ void FacingCheckOptions::Check() const {
 
 namespace {
 
-// Corners tracked from `earlier` to `later` and back within this [px] are kept.
-constexpr float kMaxRoundTripPx = 1.0F;
 // A pair votes only with this many moving corners.
 constexpr std::size_t kMinMovingCorners = 8;
 
@@ -38,29 +35,16 @@ std::optional<double> median_radial_flow(const cv::Mat& earlier, const cv::Mat& 
                                          const Eigen::Vector2d& vanishing_point_px,
                                          const cv::Mat& ignored_region,
                                          const FacingCheckOptions& options) {
-  cv::Mat usable;
-  if (!ignored_region.empty()) usable = ignored_region == 0;
-  std::vector<cv::Point2f> corners;
-  cv::goodFeaturesToTrack(earlier, corners, options.corners_per_pair, 0.01, 8.0, usable);
-  if (corners.size() < kMinMovingCorners) return std::nullopt;
-  std::vector<cv::Point2f> tracked;
-  std::vector<cv::Point2f> back;
-  std::vector<unsigned char> found;
-  std::vector<unsigned char> found_back;
-  std::vector<float> error;
-  const cv::Size window(21, 21);
-  cv::calcOpticalFlowPyrLK(earlier, later, corners, tracked, found, error, window, 3);
-  cv::calcOpticalFlowPyrLK(later, earlier, tracked, back, found_back, error, window, 3);
+  const std::vector<CornerTrack> tracks =
+      track_corners(earlier, later, ignored_region, options.corners_per_pair);
+  if (tracks.size() < kMinMovingCorners) return std::nullopt;
   const double min_distance = options.min_distance_from_vanishing_point * intrinsics.width;
   std::vector<double> radial;
-  radial.reserve(corners.size());
-  for (std::size_t i = 0; i < corners.size(); ++i) {
-    if (!found[i] || !found_back[i]) continue;
-    const cv::Point2f round_trip = back[i] - corners[i];
-    if (std::hypot(round_trip.x, round_trip.y) > kMaxRoundTripPx) continue;
+  radial.reserve(tracks.size());
+  for (const CornerTrack& track : tracks) {
     // Undistorted, where the vanishing point and straight rays live.
-    const Eigen::Vector2d from = core::undistort_pixel(intrinsics, {corners[i].x, corners[i].y});
-    const Eigen::Vector2d to = core::undistort_pixel(intrinsics, {tracked[i].x, tracked[i].y});
+    const Eigen::Vector2d from = core::undistort_pixel(intrinsics, {track.from.x, track.from.y});
+    const Eigen::Vector2d to = core::undistort_pixel(intrinsics, {track.to.x, track.to.y});
     const Eigen::Vector2d ray = from - vanishing_point_px;
     if (!ray.allFinite() || !to.allFinite() || ray.norm() < min_distance) continue;
     // A corner that stays (the car's own bonnet or bumper, a reflection in the windscreen, a

@@ -274,11 +274,30 @@ FrameVerdict TemporalFilter::add(double time_s, const std::optional<EulerAngles>
   return FrameVerdict::kWindowPassed;
 }
 
+void TemporalFilter::refuse_standing_windows(const std::vector<bool>& stood) {
+  if (stood.size() != windows_.size()) {
+    throw std::invalid_argument(
+        fmt::format("TemporalFilter::refuse_standing_windows: {} flags for {} windows",
+                    stood.size(), windows_.size()));
+  }
+  std::vector<FilterWindow> kept;
+  kept.reserve(windows_.size());
+  for (std::size_t k = 0; k < windows_.size(); ++k) {
+    if (stood[k]) {
+      ++refused_standing_;
+    } else {
+      kept.push_back(windows_[k]);
+    }
+  }
+  windows_ = std::move(kept);
+}
+
 FilterEstimate TemporalFilter::current() const {
   FilterEstimate estimate;
   estimate.windows = windows_.size();
   estimate.windows_refused_turning = refused_turning_;
   estimate.windows_refused_accelerating = refused_accelerating_;
+  estimate.windows_refused_standing = refused_standing_;
   const auto need = static_cast<std::size_t>(options_.window_frames);
   if (windows_.empty()) {
     if (longest_stretch_ < need) {
@@ -289,6 +308,11 @@ FilterEstimate TemporalFilter::current() const {
                     "only {} frames in stable stretches, at most {} in a row; need {} in "
                     "a row",
                     usable_frames_, longest_stretch_, need);
+    } else if (refused_standing_ > 0) {
+      estimate.reason = fmt::format(
+          "the car stood through {} steady window{} of {} frames, all there were: their images "
+          "did not move, and a car standing still is steady without driving straight",
+          refused_standing_, refused_standing_ == 1 ? "" : "s", need);
     } else if (refused_turning_ + refused_accelerating_ > 0) {
       estimate.reason = fmt::format(
           "no steady window of {} frames was driven straight at a steady speed: the images' "

@@ -202,6 +202,8 @@ struct FilterEstimate {
   // slides on by a frame after a refusal, so one curve counts many times).
   std::size_t windows_refused_turning = 0;
   std::size_t windows_refused_accelerating = 0;
+  // Windows refused after the fact because the car stood through them (refuse_standing_windows).
+  std::size_t windows_refused_standing = 0;
   // Why not ok: "only 43 frames in stable stretches; need 100", or the smallest std reached.
   std::string reason;
 };
@@ -218,6 +220,13 @@ class TemporalFilter {
   FrameVerdict add(double time_s, const std::optional<EulerAngles>& angles,
                    const std::optional<VehicleMotion>& motion = std::nullopt,
                    std::optional<RoadPlaneAngles> road_plane = std::nullopt);
+
+  // Refuses passed windows after the fact: stood[k] is whether the car stood through windows()[k]
+  // (the images did not move: standing_check.hpp). Such a window is steady without the car
+  // driving, and one view repeated has the smallest spread, so the largest weight, of all: it
+  // says nothing of straight driving. They leave windows() and are counted in current().
+  // Throws std::invalid_argument unless there is one flag per window.
+  void refuse_standing_windows(const std::vector<bool>& stood);
 
   // The estimate from the windows so far.
   FilterEstimate current() const;
@@ -256,6 +265,7 @@ class TemporalFilter {
   std::optional<EulerAngles> steadiest_failed_;
   std::size_t refused_turning_ = 0;
   std::size_t refused_accelerating_ = 0;
+  std::size_t refused_standing_ = 0;
 };
 
 }  // namespace x2car::camera

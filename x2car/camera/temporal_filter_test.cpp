@@ -386,6 +386,38 @@ TEST(TemporalFilter, TooFewRoadPlaneFramesLeaveTheSteadyRollAndPitch) {
   EXPECT_THROW(TemporalFilter{options}, std::invalid_argument);
 }
 
+// A car waiting 10 s at a junction, turned 5 deg from its lane: one view repeated, the steadiest
+// window of all. Refused as standing (the images tell, standing_check.hpp), it leaves the average
+// and is counted; with all windows refused the reason says why.
+TEST(TemporalFilter, WindowsTheCarStoodThroughAreRefused) {
+  TemporalFilter filter;
+  NoisyFrames frames(0.001);
+  int i = 0;
+  for (; i < 200; ++i) filter.add(0.1 * i, frames.next());
+  const EulerAngles waiting{kTruth.roll, kTruth.pitch, kTruth.yaw + rad_from_deg(5.0)};
+  for (; i < 300; ++i) filter.add(0.1 * i, waiting);
+  ASSERT_EQ(filter.windows().size(), 3U);
+  // Its spread is 0: its weight, 1 / weight_floor^2, is that of both driven windows together.
+  EXPECT_NEAR(filter.current().angles.yaw, kTruth.yaw + rad_from_deg(2.5), rad_from_deg(0.2));
+
+  filter.refuse_standing_windows({false, false, true});
+  const FilterEstimate estimate = filter.current();
+  ASSERT_TRUE(estimate.ok);
+  EXPECT_EQ(estimate.windows, 2U);
+  EXPECT_EQ(estimate.windows_refused_standing, 1U);
+  EXPECT_EQ(estimate.frames_in_windows, 200U);
+  EXPECT_NEAR(estimate.angles.yaw, kTruth.yaw, 3e-4);
+  EXPECT_THROW(filter.refuse_standing_windows({true}), std::invalid_argument);
+
+  filter.refuse_standing_windows({true, true});
+  const FilterEstimate none = filter.current();
+  EXPECT_FALSE(none.ok);
+  EXPECT_EQ(none.windows_refused_standing, 3U);
+  EXPECT_EQ(none.reason,
+            "the car stood through 3 steady windows of 100 frames, all there were: their images "
+            "did not move, and a car standing still is steady without driving straight");
+}
+
 TEST(TemporalFilter, RejectsTimesOutOfOrderAndBadOptions) {
   TemporalFilter filter;
   filter.add(1.0, kTruth);

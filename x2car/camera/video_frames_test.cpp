@@ -41,6 +41,7 @@ cv::Mat street_frame(std::size_t index) {
   testing::StreetScene scene;
   scene.vehicle_from_camera = kVideoMounting;
   scene.road_heading = rad_from_deg(0.05) * std::sin(0.07 * static_cast<double>(index));
+  scene.travelled_m = static_cast<double>(index);  // a car standing still would be refused
   scene.noise_seed = index + 1;
   return testing::draw_street(scene, even_kitti());
 }

@@ -190,6 +190,11 @@ TEST(ImageFolder, RejectsMissingOrBrokenTimes) {
   write_text_file(folder / "timestamps.txt", "2.0\n1.0\n");
   expect_input_error([&] { list_images(folder); }, (folder / "timestamps.txt").string(), 2,
                      "timestamp");
+  // The times as written, not as seconds since 1970 (1317045745.5 for the first here).
+  write_text_file(folder / "timestamps.txt", "2011-09-26 13:02:25.5\n2011-09-26 13:02:25.4\n");
+  EXPECT_THAT(input_error_of([&] { list_images(folder); }).what(),
+              HasSubstr("the time does not increase (line 1: '2011-09-26 13:02:25.5', line 2: "
+                        "'2011-09-26 13:02:25.4')"));
   const fs::path empty = fresh_folder("empty");
   expect_input_error([&] { list_images(empty); }, empty.string(), 0);
   expect_input_error([&] { list_images(empty / "missing"); }, (empty / "missing").string(), 0);

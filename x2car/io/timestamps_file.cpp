@@ -22,6 +22,7 @@ std::vector<double> read_timestamps_file(const std::filesystem::path& path) {
   const std::string text = read_text_file(path);
   std::vector<double> times;
   std::vector<std::size_t> lines;
+  std::vector<std::string_view> written;  // as in the file, for messages
   for (const TextLine& line : split_lines(text)) {
     const std::string_view field = trim(line.text);
     if (const std::optional<std::int64_t> ns = parse_utc_time(field)) {
@@ -42,13 +43,13 @@ std::vector<double> read_timestamps_file(const std::filesystem::path& path) {
                       "milliseconds or nanoseconds? Give seconds, e.g. 1317046945.6");
     }
     lines.push_back(line.number);
+    written.push_back(field);
   }
   for (std::size_t i = 1; i < times.size(); ++i) {
     if (!(times[i] > times[i - 1])) {
-      throw InputError(
-          path.string(), lines[i], "timestamp",
-          fmt::format("the time does not increase (line {}: {} s, line {}: {} s)", lines[i - 1],
-                      format_number(times[i - 1]), lines[i], format_number(times[i])));
+      throw InputError(path.string(), lines[i], "timestamp",
+                       fmt::format("the time does not increase (line {}: '{}', line {}: '{}')",
+                                   lines[i - 1], written[i - 1], lines[i], written[i]));
     }
   }
   return times;

@@ -1,0 +1,61 @@
+#include "x2car/camera/corner_tracks.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+
+namespace x2car::camera {
+
+namespace {
+
+// Corners tracked from the earlier frame to the later and back within this are kept [px].
+constexpr float kMaxRoundTripPx = 1.0F;
+
+}  // namespace
+
+std::vector<CornerTrack> track_corners(const cv::Mat& earlier, const cv::Mat& later,
+                                       const cv::Mat& ignored_region, int max_corners) {
+  cv::Mat usable;
+  if (!ignored_region.empty()) usable = ignored_region == 0;
+  std::vector<cv::Point2f> corners;
+  cv::goodFeaturesToTrack(earlier, corners, max_corners, 0.01, 8.0, usable);
+  std::vector<CornerTrack> tracks;
+  if (corners.empty()) return tracks;
+  std::vector<cv::Point2f> tracked;
+  std::vector<cv::Point2f> back;
+  std::vector<unsigned char> found;
+  std::vector<unsigned char> found_back;
+  std::vector<float> error;
+  const cv::Size window(21, 21);
+  cv::calcOpticalFlowPyrLK(earlier, later, corners, tracked, found, error, window, 3);
+  cv::calcOpticalFlowPyrLK(later, earlier, tracked, back, found_back, error, window, 3);
+  tracks.reserve(corners.size());
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    if (!found[i] || !found_back[i]) continue;
+    const cv::Point2f round_trip = back[i] - corners[i];
+    if (std::hypot(round_trip.x, round_trip.y) > kMaxRoundTripPx) continue;
+    tracks.push_back({corners[i], tracked[i]});
+  }
+  return tracks;
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> frame_pairs_in(const std::vector<double>& times,
+                                                                 std::size_t first,
+                                                                 std::size_t last,
+                                                                 double interval_s,
+                                                                 double max_gap_s) {
+  // Times are read to a microsecond: 0.2 s at 10 Hz is 2 frames, not 3.
+  constexpr double kTimeSlack = 1e-6;
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  std::size_t later = first;
+  for (std::size_t i = first; i < last; ++i) {
+    later = std::max(later, i + 1);
+    while (later < last && times[later] - times[i] < interval_s - kTimeSlack) ++later;
+    const double gap_s = times[later] - times[i];
+    if (gap_s >= interval_s - kTimeSlack && gap_s <= max_gap_s) pairs.emplace_back(i, later);
+  }
+  return pairs;
+}
+
+}  // namespace x2car::camera

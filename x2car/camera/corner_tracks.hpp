@@ -1,0 +1,37 @@
+// Corners of one frame followed into a later one: what the facing check (facing_check.hpp) and
+// the standing check (standing_check.hpp) measure of a pair of frames.
+#pragma once
+
+#include <cstddef>
+#include <opencv2/core/types.hpp>
+#include <utility>
+#include <vector>
+
+namespace cv {
+class Mat;
+}  // namespace cv
+
+namespace x2car::camera {
+
+struct CornerTrack {
+  cv::Point2f from;  // in the earlier frame [px, as decoded]
+  cv::Point2f to;    // in the later one
+};
+
+// Corners of `earlier` (cv::goodFeaturesToTrack: at most `max_corners`, 8 px apart, outside the
+// nonzero pixels of `ignored_region` when it is not empty), tracked into `later` with pyramidal
+// LK and back again; those that come back within 1 px of where they started. Both frames 8-bit
+// grey of one size.
+std::vector<CornerTrack> track_corners(const cv::Mat& earlier, const cv::Mat& later,
+                                       const cv::Mat& ignored_region, int max_corners);
+
+// The pairs (i, j) of frames first..last (indices into `times` [s], increasing) that pair each
+// frame i with the first frame j at least `interval_s` later, when that is at most `max_gap_s`
+// later (a frame dropped, a stop in the recording), in order.
+std::vector<std::pair<std::size_t, std::size_t>> frame_pairs_in(const std::vector<double>& times,
+                                                                 std::size_t first,
+                                                                 std::size_t last,
+                                                                 double interval_s,
+                                                                 double max_gap_s);
+
+}  // namespace x2car::camera
