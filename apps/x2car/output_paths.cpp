@@ -41,8 +41,9 @@ std::string why_not_writable(const fs::path& folder) {
   const int descriptor = mkstemp(probe.data());
   // Where no file can be made (/proc, /sys) the kernel says "No such file or directory" of the
   // new file, which reads as if the folder were missing.
-  if (descriptor < 0)
+  if (descriptor < 0) {
     return errno == ENOENT ? "no file can be created in it" : std::strerror(errno);
+  }
   close(descriptor);
   unlink(probe.c_str());
   return {};

@@ -668,7 +668,7 @@ void refuse_standing(const CameraFrameSource& frames, TemporalFilter& filter, Fr
     looked_at.push_back(k);
   }
   if (spans.empty()) return;
-  const std::vector<WindowMotionCheck> checks = check_standing(
+  const std::vector<StandingCheck> checks = check_standing(
       read_or_empty(reader), frames.times, spans, ignored_region, options.standing_check);
   std::vector<bool> stood(windows.size(), false);
   for (std::size_t i = 0; i < checks.size(); ++i) stood[looked_at[i]] = checks[i].stood();

@@ -125,6 +125,15 @@ TEST(CalibrateCamera, WindowsTheCarStoodThroughAreRefused) {
   kept.refuse_standing = false;
   EXPECT_TRUE(
       calibrate_camera(street_drive(36, 0.0, 10.0), core::camera_preset("kitti"), kept).ok());
+
+  // Windows whose every frame had the car's motion are not looked at: its speed gate kept
+  // standing frames out (here the log says 10 m/s over frames that do not move).
+  CameraFrameSource logged = street_drive(36, 0.0, 10.0);
+  logged.motion.assign(36, VehicleMotion{.speed_mps = 10.0});
+  const CalibrationResult moving =
+      calibrate_camera(logged, core::camera_preset("kitti"), short_windows());
+  ASSERT_TRUE(moving.ok()) << moving.reason;
+  EXPECT_EQ(moving.support.count("windows_refused_standing"), 0U);
 }
 
 // A camera that looks back sees the road's vanishing point where one that looks ahead does: only

@@ -14,37 +14,43 @@ constexpr float kMaxRoundTripPx = 1.0F;
 
 }  // namespace
 
+std::vector<CornerTrack> track_points(const cv::Mat& earlier, const cv::Mat& later,
+                                      const std::vector<cv::Point2f>& points, int window_px,
+                                      int pyramid_levels) {
+  std::vector<CornerTrack> tracks;
+  if (points.empty()) return tracks;
+  std::vector<cv::Point2f> tracked;
+  std::vector<cv::Point2f> back;
+  std::vector<unsigned char> found;
+  std::vector<unsigned char> found_back;
+  std::vector<float> error;
+  const cv::Size window(window_px, window_px);
+  cv::calcOpticalFlowPyrLK(earlier, later, points, tracked, found, error, window, pyramid_levels);
+  cv::calcOpticalFlowPyrLK(later, earlier, tracked, back, found_back, error, window,
+                           pyramid_levels);
+  tracks.reserve(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (!found[i] || !found_back[i]) continue;
+    const cv::Point2f round_trip = back[i] - points[i];
+    if (std::hypot(round_trip.x, round_trip.y) > kMaxRoundTripPx) continue;
+    tracks.push_back({points[i], tracked[i], i});
+  }
+  return tracks;
+}
+
 std::vector<CornerTrack> track_corners(const cv::Mat& earlier, const cv::Mat& later,
                                        const cv::Mat& ignored_region, int max_corners) {
   cv::Mat usable;
   if (!ignored_region.empty()) usable = ignored_region == 0;
   std::vector<cv::Point2f> corners;
   cv::goodFeaturesToTrack(earlier, corners, max_corners, 0.01, 8.0, usable);
-  std::vector<CornerTrack> tracks;
-  if (corners.empty()) return tracks;
-  std::vector<cv::Point2f> tracked;
-  std::vector<cv::Point2f> back;
-  std::vector<unsigned char> found;
-  std::vector<unsigned char> found_back;
-  std::vector<float> error;
-  const cv::Size window(21, 21);
-  cv::calcOpticalFlowPyrLK(earlier, later, corners, tracked, found, error, window, 3);
-  cv::calcOpticalFlowPyrLK(later, earlier, tracked, back, found_back, error, window, 3);
-  tracks.reserve(corners.size());
-  for (std::size_t i = 0; i < corners.size(); ++i) {
-    if (!found[i] || !found_back[i]) continue;
-    const cv::Point2f round_trip = back[i] - corners[i];
-    if (std::hypot(round_trip.x, round_trip.y) > kMaxRoundTripPx) continue;
-    tracks.push_back({corners[i], tracked[i]});
-  }
-  return tracks;
+  return track_points(earlier, later, corners);
 }
 
 std::vector<std::pair<std::size_t, std::size_t>> frame_pairs_in(const std::vector<double>& times,
-                                                                 std::size_t first,
-                                                                 std::size_t last,
-                                                                 double interval_s,
-                                                                 double max_gap_s) {
+                                                                std::size_t first, std::size_t last,
+                                                                double interval_s,
+                                                                double max_gap_s) {
   // Times are read to a microsecond: 0.2 s at 10 Hz is 2 frames, not 3.
   constexpr double kTimeSlack = 1e-6;
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
@@ -56,6 +62,16 @@ std::vector<std::pair<std::size_t, std::size_t>> frame_pairs_in(const std::vecto
     if (gap_s >= interval_s - kTimeSlack && gap_s <= max_gap_s) pairs.emplace_back(i, later);
   }
   return pairs;
+}
+
+std::vector<std::size_t> evenly_spaced(std::size_t count, std::size_t wanted) {
+  wanted = std::min(count, wanted);
+  std::vector<std::size_t> indices;
+  indices.reserve(wanted);
+  for (std::size_t k = 0; k < wanted; ++k) {
+    indices.push_back(wanted == 1 ? 0 : k * (count - 1) / (wanted - 1));
+  }
+  return indices;
 }
 
 }  // namespace x2car::camera

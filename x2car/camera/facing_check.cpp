@@ -65,10 +65,9 @@ FacingCheck check_facing(const std::function<cv::Mat(std::size_t)>& read,
                          const FacingCheckOptions& options) {
   options.Check();
   FacingCheck check;
-  const std::size_t wanted = std::min(pairs.size(), static_cast<std::size_t>(options.frame_pairs));
-  for (std::size_t k = 0; k < wanted; ++k) {
-    // Evenly over the pairs offered, in their order.
-    const std::size_t index = wanted == 1 ? 0 : k * (pairs.size() - 1) / (wanted - 1);
+  // Evenly over the pairs offered, in their order.
+  for (const std::size_t index :
+       evenly_spaced(pairs.size(), static_cast<std::size_t>(options.frame_pairs))) {
     const auto [earlier_index, later_index] = pairs[index];
     const cv::Mat earlier = read(earlier_index);
     const cv::Mat later = read(later_index);

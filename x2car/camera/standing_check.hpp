@@ -6,16 +6,23 @@
 // without driving at all: its frames repeat one view (the same angles, a std near 0, so the
 // window's weight in the average is the largest there is), and that view may be of a car waiting
 // at an angle to its lane at a junction. With the car's motion known (`--ins`) such frames are
-// gated by speed; without it, the images tell: corners of frames about half a second apart are
-// tracked (pyramidal LK, both ways), and a pair whose corners stayed put (all but a few: people
-// and cars pass a standing car) stood. A window where more of its tracked pairs stood than moved
-// is the car's standing, not its driving.
+// gated by speed; without it, the images tell.
+//
+// How: frames about half a second apart are paired, and the image is cut into a grid of cells,
+// each with its own corners (so that the strong corners of a text overlay burnt into a dashcam's
+// video cannot take them all), tracked with pyramidal LK both ways. A cell moved when the median
+// displacement of its tracked corners reaches min_corner_motion_px. The car's own travel moves
+// the whole scene, so most cells that hold texture; what stays put in a driving car's view (a
+// bonnet, a dashboard, an overlay) holds some cells, and what moves past a standing car (people,
+// traffic) a few. A pair moved when at least min_moving_cell_share of its cells with corners
+// moved. A window stood when more than half of the pairs looked at stood: a pair that cannot tell
+// (too few cells with corners: night, fog, a blank wall; an unreadable frame) never counts as
+// standing.
 #pragma once
 
 #include <cstddef>
 #include <functional>
 #include <opencv2/core.hpp>
-#include <optional>
 #include <utility>
 #include <vector>
 
@@ -29,38 +36,40 @@ struct StandingCheckOptions {
   // wide, a standing car's not at all), if that is at most pair_max_gap_s later [s].
   double pair_interval_s = 0.5;
   double pair_max_gap_s = 1.0;
-  // Corners tracked per pair (cv::goodFeaturesToTrack).
-  int corners_per_pair = 200;
-  // A corner moved when it moved at least this far [px]: above the camera's jitter on an idling
-  // engine and the tracker's noise (~0.05 px), below what a car creeping at 1 m/s moves the near
-  // scene by in half a second.
+  // The grid of cells the image is cut into, and the corners looked for in each
+  // (cv::goodFeaturesToTrack).
+  int grid_columns = 4;
+  int grid_rows = 4;
+  int corners_per_cell = 12;
+  // A cell counts when this many of its corners were tracked (to the later frame and back within
+  // 1 px: corners that moved too far for the tracker are lost, a plain sky has none).
+  int min_cell_corners = 3;
+  // A cell moved when its tracked corners moved by a median of at least this [px]: above the
+  // camera's jitter on an idling engine and the tracker's noise (~0.05 px), below what a car
+  // creeping at 1 m/s moves the near scene by in half a second.
   double min_corner_motion_px = 0.5;
-  // A pair moved when at least this share of its tracked corners moved: a highway's distant trees
-  // and hills hardly move in half a second, but the road, its markings and the near verges do; a
-  // standing car sees a few people and cars pass.
-  double min_moving_corner_share = 0.2;
+  // A pair moved when at least this share of its counting cells moved, and tells when at least
+  // min_counted_cells counted.
+  double min_moving_cell_share = 1.0 / 3.0;
+  int min_counted_cells = 3;
 
   // Throws std::invalid_argument naming the offending field.
   void Check() const;
 };
 
 // What the pairs of one window showed.
-struct WindowMotionCheck {
+struct StandingCheck {
   std::size_t pairs = 0;        // looked at
-  std::size_t pairs_stood = 0;  // whose corners stayed put
-  std::size_t pairs_moved = 0;  // tracked, and moved (the rest: too few corners to tell)
-  bool stood() const { return pairs_stood > pairs_moved; }
+  std::size_t pairs_stood = 0;  // whose cells stayed put
+  std::size_t pairs_moved = 0;  // the rest of them told nothing (too few cells with corners)
+  // More than half of the pairs looked at stood.
+  bool stood() const { return 2 * pairs_stood > pairs; }
 };
 
-// Whether a pair of frames moved: nullopt when fewer than 8 corners were tracked (a scene without
-// texture: nothing to tell).
-std::optional<bool> pair_moved(const cv::Mat& earlier, const cv::Mat& later,
-                               const cv::Mat& ignored_region, const StandingCheckOptions& options);
-
-// One check per window, given as (first, last) frame indices into `times` [s, increasing];
-// `read(i)` gives frame i (8-bit grey or BGR; empty: unreadable, the pair tells nothing), read in
-// order; `ignored_region` (nonzero: left out) may be empty.
-std::vector<WindowMotionCheck> check_standing(
+// One check per window, given as (first, last) frame indices into `times` [s, increasing],
+// inclusive; `read(i)` gives frame i (8-bit grey or BGR; empty: unreadable, the pair tells
+// nothing), read in order; `ignored_region` (nonzero: left out) may be empty.
+std::vector<StandingCheck> check_standing(
     const std::function<cv::Mat(std::size_t)>& read, const std::vector<double>& times,
     const std::vector<std::pair<std::size_t, std::size_t>>& windows, const cv::Mat& ignored_region,
     const StandingCheckOptions& options = {});

@@ -313,6 +313,11 @@ FilterEstimate TemporalFilter::current() const {
           "the car stood through {} steady window{} of {} frames, all there were: their images "
           "did not move, and a car standing still is steady without driving straight",
           refused_standing_, refused_standing_ == 1 ? "" : "s", need);
+      if (refused_turning_ + refused_accelerating_ > 0) {
+        estimate.reason += fmt::format(
+            " (the images' motion refused {} more for turning and {} for speeding up or braking)",
+            refused_turning_, refused_accelerating_);
+      }
     } else if (refused_turning_ + refused_accelerating_ > 0) {
       estimate.reason = fmt::format(
           "no steady window of {} frames was driven straight at a steady speed: the images' "

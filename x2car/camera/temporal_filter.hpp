@@ -32,7 +32,9 @@
 //     beyond road_plane_clip median absolute deviations from the median in either left out) and
 //     their spreads the means' standard errors (their std over the square root of half their
 //     number: consecutive frame pairs share a frame).
-// Incremental: feed frames in time order with add(), read current() at any time.
+// Incremental: feed frames in time order with add(), read current() at any time. A caller that
+// looks at the images after the run may refuse windows the car stood through
+// (refuse_standing_windows).
 #pragma once
 
 #include <cstddef>
