@@ -28,8 +28,8 @@ void StandingCheckOptions::Check() const {
 
 namespace {
 
-// Whether a pair of frames moved; nullopt when fewer than min_counted_cells cells had corners
-// tracked.
+// Whether a pair of frames moved; nullopt when fewer than min_counted_cells cells had
+// min_cell_corners corners found.
 std::optional<bool> pair_moved(const cv::Mat& earlier, const cv::Mat& later,
                                const cv::Mat& ignored_region, const StandingCheckOptions& options) {
   const int columns = options.grid_columns;

@@ -10,8 +10,10 @@
 //
 // How: frames about half a second apart are paired, and the image is cut into a grid of cells,
 // each with its own corners (so that the strong corners of a text overlay burnt into a dashcam's
-// video cannot take them all), tracked with pyramidal LK both ways. A cell moved when the median
-// displacement of its tracked corners reaches min_corner_motion_px. The car's own travel moves
+// video cannot take them all), tracked with LK both ways at one pyramid level (a still corner
+// stays found beside a passing car; one that moved beyond ~20 px is lost). A cell moved when most
+// of its corners were lost or the median displacement of its tracked ones reaches
+// min_corner_motion_px. The car's own travel moves
 // the whole scene, so most cells that hold texture; what stays put in a driving car's view (a
 // bonnet, a dashboard, an overlay) holds some cells, and what moves past a standing car (people,
 // traffic) a few. A pair moved when at least min_moving_cell_share of its cells with corners
@@ -41,8 +43,9 @@ struct StandingCheckOptions {
   int grid_columns = 4;
   int grid_rows = 4;
   int corners_per_cell = 12;
-  // A cell counts when this many of its corners were tracked (to the later frame and back within
-  // 1 px: corners that moved too far for the tracker are lost, a plain sky has none).
+  // A cell counts when this many corners were found in it (a plain sky has none); it moved when
+  // fewer than half of them were tracked (to the later frame and back within 1 px: corners that
+  // moved too far for the tracker are lost) or min_corner_motion_px below holds.
   int min_cell_corners = 3;
   // A cell moved when its tracked corners moved by a median of at least this [px]: above the
   // camera's jitter on an idling engine and the tracker's noise (~0.05 px), below what a car
@@ -61,7 +64,8 @@ struct StandingCheckOptions {
 struct StandingCheck {
   std::size_t pairs = 0;        // looked at
   std::size_t pairs_stood = 0;  // whose cells stayed put
-  std::size_t pairs_moved = 0;  // the rest of them told nothing (too few cells with corners)
+  std::size_t pairs_moved = 0;  // whose cells moved; the rest told nothing (too few cells with
+                                // corners, an unreadable frame)
   // More than half of the pairs looked at stood.
   bool stood() const { return 2 * pairs_stood > pairs; }
 };
