@@ -66,7 +66,11 @@ camera::CameraCalibrationOptions calibration_options(const CalibrateCameraArgume
   if (!arguments.facing.empty()) {
     options.facing = enum_from_string(camera::kCameraFacingNames, arguments.facing, "facing");
   }
-  if (arguments.window_frames) options.filter.window_frames = *arguments.window_frames;
+  if (arguments.window_frames) {
+    // Frames as given, at any frame rate (the default scales with the rate).
+    options.filter.window_frames = *arguments.window_frames;
+    options.filter_frame_rate_hz = 0.0;
+  }
   if (arguments.max_window_std_deg) {
     options.filter.max_window_std = rad_from_deg(*arguments.max_window_std_deg);
   }
@@ -316,9 +320,11 @@ RunCommand setup_calibrate_camera_command(CLI::App& command) {
       ->type_name("MODEL");
   command
       .add_option("--window-frames", arguments->window_frames,
-                  "Frames per steadiness window (the paper's n)")
+                  "Frames per steadiness window (the paper's n), at any frame rate; default: "
+                  "as many seconds as the paper's n frames at its 10 Hz (a 30 Hz video: 300)")
       ->check(CLI::Range(2, 100000))
-      ->default_str(std::to_string(defaults.filter.window_frames));
+      ->default_str(fmt::format("{} at {:g} Hz", defaults.filter.window_frames,
+                                defaults.filter_frame_rate_hz));
   command
       .add_option("--max-window-std-deg", arguments->max_window_std_deg,
                   "Largest std of an angle over a window that counts as steady (the paper's e) "

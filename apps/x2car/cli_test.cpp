@@ -647,7 +647,8 @@ TEST(CalibrateLidar, BadFoldersExitWithTwoAndTooFewSweepsWithOne) {
 // A drive folder as the simulator lays it out (camera/images/, timestamps.txt, intrinsics.yaml),
 // with synthetic street images seen from a known mounting (camera/camera_test_support.hpp), the
 // car driving at 10 m/s.
-std::filesystem::path write_camera_drive(const std::string& name, int frames) {
+std::filesystem::path write_camera_drive(const std::string& name, int frames,
+                                         double interval_s = 0.1) {
   const auto folder = std::filesystem::path(::testing::TempDir()) / name;
   std::filesystem::remove_all(folder);
   std::filesystem::create_directories(folder / "camera" / "images");
@@ -663,10 +664,26 @@ std::filesystem::path write_camera_drive(const std::string& name, int frames) {
     std::snprintf(file, sizeof file, "%010d.png", i);
     cv::imwrite((folder / "camera" / "images" / file).string(),
                 camera::testing::draw_street(scene, intrinsics));
-    timestamps += std::to_string(10.0 + 0.1 * i) + "\n";
+    timestamps += std::to_string(10.0 + interval_s * i) + "\n";
   }
   io::write_text_file(folder / "camera" / "timestamps.txt", timestamps);
   return folder;
+}
+
+// The default window is the paper's 100 frames at 10 Hz, as many seconds at the frames' rate (200
+// frames at 20 Hz); --window-frames gives the count as is, at any rate.
+TEST(CalibrateCamera, TheWindowHoldsAsManySecondsUnlessItsFramesAreGiven) {
+  const auto folder = write_camera_drive("cli_calibrate_camera_20_hz", 24, 0.05);
+  const CliRun by_default = run_x2car("calibrate camera --input " + folder.string());
+  EXPECT_EQ(by_default.exit_code, 1) << by_default.output;
+  EXPECT_THAT(by_default.output, HasSubstr("need 200"));
+  const auto json = folder / "camera_result.json";
+  const CliRun given = run_x2car("calibrate camera --input " + folder.string() +
+                                 " --window-frames 12 --out " + json.string());
+  ASSERT_EQ(given.exit_code, 0) << given.output;
+  EXPECT_THAT(given.output, HasSubstr("windows 2"));
+  const CliRun help = run_x2car("calibrate camera --help");
+  EXPECT_THAT(help.output, HasSubstr("100 at 10 Hz"));
 }
 
 TEST(CalibrateCamera, RecoversTheMountingFromAFolderOfImages) {

@@ -36,6 +36,7 @@ void CameraCalibrationOptions::Check() const {
   }
   if (refuse_standing) standing_check.Check();
   check.at_least("noisy_estimator_block_frames", noisy_estimator_block_frames, 1);
+  check.non_negative("filter_frame_rate_hz", filter_frame_rate_hz);
   check.at_least("estimator_min_windows", estimator_min_windows, 1);
   check.at_least("estimator_standard_error_floor", estimator_standard_error_floor, 0.0);
   check.at_least("motion_guide_frame_step", motion_guide_frame_step, 0);
@@ -92,13 +93,40 @@ std::optional<VehicleMotion> motion_at(const CameraFrameSource& frames, std::siz
 
 // The filter's options for the run's estimator: a noisy one's test is on blocks of frames, and its
 // failed frames leave holes (CameraCalibrationOptions::noisy_estimator_block_frames).
-TemporalFilterOptions filter_options(const CameraCalibrationOptions& options) {
+// The frames' rate [Hz]: one over the median interval between consecutive frames; nullopt with
+// fewer than two frames or no interval above zero.
+std::optional<double> frame_rate_hz(const std::vector<double>& times) {
+  std::vector<double> intervals;
+  intervals.reserve(times.size());
+  for (std::size_t i = 1; i < times.size(); ++i) {
+    if (times[i] > times[i - 1]) intervals.push_back(times[i] - times[i - 1]);
+  }
+  if (intervals.empty()) return std::nullopt;
+  return 1.0 / median(intervals);
+}
+
+// The filter's frame counts for frames at `rate_hz` (CameraCalibrationOptions::
+// filter_frame_rate_hz): `count` frames at the options' rate, as many seconds at this one, never
+// below `least`.
+int frames_at_rate(int count, double scale, int least) {
+  return std::max(least, static_cast<int>(std::lround(static_cast<double>(count) * scale)));
+}
+
+TemporalFilterOptions filter_options(const CameraCalibrationOptions& options,
+                                     const std::vector<double>& times) {
   TemporalFilterOptions filter = options.filter;
+  int block_frames = options.noisy_estimator_block_frames;
+  const std::optional<double> rate = frame_rate_hz(times);
+  if (options.filter_frame_rate_hz > 0.0 && rate) {
+    const double scale = *rate / options.filter_frame_rate_hz;
+    filter.window_frames = frames_at_rate(filter.window_frames, scale, 2);
+    filter.min_road_plane_frames = frames_at_rate(filter.min_road_plane_frames, scale, 2);
+    block_frames = frames_at_rate(block_frames, scale, 1);
+  }
   const bool noisy =
       options.estimator ? options.estimator_scatters : options.method == CameraMethod::kMotion;
   if (noisy) {
-    filter.steadiness_block_frames =
-        std::max(1, std::min(options.noisy_estimator_block_frames, filter.window_frames / 2));
+    filter.steadiness_block_frames = std::max(1, std::min(block_frames, filter.window_frames / 2));
     filter.unusable_frame_ends_stretch = false;
   }
   return filter;
@@ -765,7 +793,7 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
     look = first_look(frames, reader, intrinsics, options, estimators.sequence);
     estimators.sequence_guide = look->guide;
   }
-  const TemporalFilterOptions run_filter = filter_options(options);
+  const TemporalFilterOptions run_filter = filter_options(options, frames.times);
   TemporalFilter filter(run_filter);
   std::vector<FrameVerdict> verdicts;
   const std::vector<FrameRecord> records =
@@ -792,6 +820,10 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
         static_cast<std::int64_t>(estimate.windows_refused_standing);
   }
   count_frames(records, verdicts, result);
+  if (run_filter.window_frames != options.filter.window_frames) {
+    // The frames' rate is not filter_frame_rate_hz: windows of as many seconds (filter_options).
+    result.diagnostics["window_frames"] = static_cast<double>(run_filter.window_frames);
+  }
   if (run_filter.steadiness_block_frames > 1) {
     // A noisy estimator's windows were tested on blocks of frames (filter_options).
     result.diagnostics["steadiness_block_frames"] =

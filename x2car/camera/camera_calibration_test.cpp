@@ -27,15 +27,16 @@ using x2car::testing::AngleNearDeg;
 
 const EulerAngles kMounting{rad_from_deg(1.5), rad_from_deg(3.0), rad_from_deg(-2.0)};
 
-// A short drive down a straight street at 10 Hz and 10 m/s: the driver weaves in the lane (the
-// road's heading against the car swings by +-0.05 deg), `turn_rate` [rad/s] turns the road's
-// direction over time; the car stands for the first `stand_s` [s].
-CameraFrameSource street_drive(std::size_t count, double turn_rate = 0.0, double stand_s = 0.0) {
+// A short drive down a straight street at 10 Hz (or `rate_hz`) and 10 m/s: the driver weaves in
+// the lane (the road's heading against the car swings by +-0.05 deg), `turn_rate` [rad/s] turns
+// the road's direction over time; the car stands for the first `stand_s` [s].
+CameraFrameSource street_drive(std::size_t count, double turn_rate = 0.0, double stand_s = 0.0,
+                               double rate_hz = 10.0) {
   CameraFrameSource frames;
   for (std::size_t i = 0; i < count; ++i)
-    frames.times.push_back(100.0 + 0.1 * static_cast<double>(i));
-  frames.read = [turn_rate, stand_s](std::size_t index) {
-    const double time = 0.1 * static_cast<double>(index);
+    frames.times.push_back(100.0 + static_cast<double>(i) / rate_hz);
+  frames.read = [turn_rate, stand_s, rate_hz](std::size_t index) {
+    const double time = static_cast<double>(index) / rate_hz;
     testing::StreetScene scene;
     scene.vehicle_from_camera = kMounting;
     scene.travelled_m = 10.0 * std::max(0.0, time - stand_s);
@@ -98,6 +99,51 @@ TEST(CalibrateCamera, RecoversTheMountingOfAStreetDrive) {
     EXPECT_EQ(series.value.size(), 36U) << series.name;
     EXPECT_EQ(series.time.size(), 36U) << series.name;
   }
+}
+
+// The paper's window is 100 frames of a 10 Hz camera, 10 s of road; at another frame rate a
+// window holds as many seconds (filter_frame_rate_hz), not as many frames: a 30 Hz video windowed
+// by frame count passed windows of a third of the time through curves and accelerations. Here 12
+// frames at 10 Hz (short_windows) are 36 at 30 Hz and 6 at 5 Hz: three windows in each 3.6-s
+// drive; with the counts as given, nine at 30 Hz.
+TEST(CalibrateCamera, WindowsHoldAsManySecondsAtAnyFrameRate) {
+  const core::CameraIntrinsics camera = core::camera_preset("kitti");
+  const CalibrationResult at_10_hz = calibrate_camera(street_drive(36), camera, short_windows());
+  ASSERT_TRUE(at_10_hz.ok()) << at_10_hz.reason;
+  EXPECT_EQ(at_10_hz.support.at("windows"), 3);
+  EXPECT_FALSE(at_10_hz.diagnostics.contains("window_frames"));
+
+  const CalibrationResult at_30_hz =
+      calibrate_camera(street_drive(108, 0.0, 0.0, 30.0), camera, short_windows());
+  ASSERT_TRUE(at_30_hz.ok()) << at_30_hz.reason;
+  EXPECT_EQ(at_30_hz.support.at("windows"), 3);
+  EXPECT_EQ(at_30_hz.support.at("frames_in_windows"), 108);
+  EXPECT_EQ(at_30_hz.diagnostics.at("window_frames"), 36.0);
+  EXPECT_THAT(*at_30_hz.yaw, AngleNearDeg(kMounting.yaw, 0.1));
+
+  const CalibrationResult at_5_hz =
+      calibrate_camera(street_drive(18, 0.0, 0.0, 5.0), camera, short_windows());
+  ASSERT_TRUE(at_5_hz.ok()) << at_5_hz.reason;
+  EXPECT_EQ(at_5_hz.support.at("windows"), 3);
+  EXPECT_EQ(at_5_hz.diagnostics.at("window_frames"), 6.0);
+
+  // A second of 30 Hz frames is too short for a window of 1.2 s, and the reason counts frames.
+  const CalibrationResult short_drive =
+      calibrate_camera(street_drive(30, 0.0, 0.0, 30.0), camera, short_windows());
+  EXPECT_EQ(short_drive.status, CalibrationStatus::kInsufficientData);
+  EXPECT_THAT(short_drive.reason, ::testing::HasSubstr("need 36"));
+
+  CameraCalibrationOptions as_given = short_windows();
+  as_given.filter_frame_rate_hz = 0.0;
+  const CalibrationResult frames_as_given =
+      calibrate_camera(street_drive(108, 0.0, 0.0, 30.0), camera, as_given);
+  ASSERT_TRUE(frames_as_given.ok()) << frames_as_given.reason;
+  EXPECT_EQ(frames_as_given.support.at("windows"), 9);
+  EXPECT_FALSE(frames_as_given.diagnostics.contains("window_frames"));
+
+  CameraCalibrationOptions bad = short_windows();
+  bad.filter_frame_rate_hz = -1.0;
+  EXPECT_THROW(calibrate_camera(street_drive(36), camera, bad), std::invalid_argument);
 }
 
 // A car standing at a light passes the window's steadiness test without driving: one view
