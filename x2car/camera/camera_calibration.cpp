@@ -91,8 +91,6 @@ std::optional<VehicleMotion> motion_at(const CameraFrameSource& frames, std::siz
   return frames.motion.empty() ? std::nullopt : frames.motion[index];
 }
 
-// The filter's options for the run's estimator: a noisy one's test is on blocks of frames, and its
-// failed frames leave holes (CameraCalibrationOptions::noisy_estimator_block_frames).
 // The frames' rate [Hz]: one over the median interval between consecutive frames; nullopt with
 // fewer than two frames or no interval above zero.
 std::optional<double> frame_rate_hz(const std::vector<double>& times) {
@@ -105,28 +103,37 @@ std::optional<double> frame_rate_hz(const std::vector<double>& times) {
   return 1.0 / median(intervals);
 }
 
-// The filter's frame counts for frames at `rate_hz` (CameraCalibrationOptions::
-// filter_frame_rate_hz): `count` frames at the options' rate, as many seconds at this one, never
-// below `least`.
-int frames_at_rate(int count, double scale, int least) {
-  return std::max(least, static_cast<int>(std::lround(static_cast<double>(count) * scale)));
+}  // namespace
+
+CameraCalibrationOptions options_at_frame_rate(const CameraCalibrationOptions& options,
+                                               const std::vector<double>& times) {
+  const std::optional<double> rate = frame_rate_hz(times);
+  if (options.filter_frame_rate_hz <= 0.0 || !rate) return options;
+  const double scale = *rate / options.filter_frame_rate_hz;
+  const auto scaled = [scale](int count, int least) {
+    return std::max(least, static_cast<int>(std::lround(static_cast<double>(count) * scale)));
+  };
+  CameraCalibrationOptions at_rate = options;
+  at_rate.filter.window_frames = scaled(options.filter.window_frames, 2);
+  at_rate.filter.min_road_plane_frames = scaled(options.filter.min_road_plane_frames, 2);
+  at_rate.noisy_estimator_block_frames = scaled(options.noisy_estimator_block_frames, 1);
+  if (options.motion_guide_frame_step > 0) {
+    at_rate.motion_guide_frame_step = scaled(options.motion_guide_frame_step, 1);
+  }
+  return at_rate;
 }
 
-TemporalFilterOptions filter_options(const CameraCalibrationOptions& options,
-                                     const std::vector<double>& times) {
+namespace {
+
+// The filter's options for the run's estimator: a noisy one's test is on blocks of frames, and its
+// failed frames leave holes (CameraCalibrationOptions::noisy_estimator_block_frames).
+TemporalFilterOptions filter_options(const CameraCalibrationOptions& options) {
   TemporalFilterOptions filter = options.filter;
-  int block_frames = options.noisy_estimator_block_frames;
-  const std::optional<double> rate = frame_rate_hz(times);
-  if (options.filter_frame_rate_hz > 0.0 && rate) {
-    const double scale = *rate / options.filter_frame_rate_hz;
-    filter.window_frames = frames_at_rate(filter.window_frames, scale, 2);
-    filter.min_road_plane_frames = frames_at_rate(filter.min_road_plane_frames, scale, 2);
-    block_frames = frames_at_rate(block_frames, scale, 1);
-  }
   const bool noisy =
       options.estimator ? options.estimator_scatters : options.method == CameraMethod::kMotion;
   if (noisy) {
-    filter.steadiness_block_frames = std::max(1, std::min(block_frames, filter.window_frames / 2));
+    filter.steadiness_block_frames =
+        std::max(1, std::min(options.noisy_estimator_block_frames, filter.window_frames / 2));
     filter.unusable_frame_ends_stretch = false;
   }
   return filter;
@@ -778,7 +785,8 @@ std::optional<std::string> settle_facing(
 
 CalibrationResult calibrate(const CameraFrameSource& frames,
                             const core::CameraIntrinsics& intrinsics,
-                            const CameraCalibrationOptions& options) {
+                            const CameraCalibrationOptions& given_options) {
+  const CameraCalibrationOptions options = options_at_frame_rate(given_options, frames.times);
   const IgnoredRegion ignored = find_ignored_region(frames, intrinsics, options);
   Estimators estimators = make_estimators(frames, options, ignored);
   // The frames in flight and the ones before them that their pairs need (none without pairs).
@@ -793,7 +801,7 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
     look = first_look(frames, reader, intrinsics, options, estimators.sequence);
     estimators.sequence_guide = look->guide;
   }
-  const TemporalFilterOptions run_filter = filter_options(options, frames.times);
+  const TemporalFilterOptions run_filter = filter_options(options);
   TemporalFilter filter(run_filter);
   std::vector<FrameVerdict> verdicts;
   const std::vector<FrameRecord> records =
@@ -820,8 +828,9 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
         static_cast<std::int64_t>(estimate.windows_refused_standing);
   }
   count_frames(records, verdicts, result);
-  if (run_filter.window_frames != options.filter.window_frames) {
-    // The frames' rate is not filter_frame_rate_hz: windows of as many seconds (filter_options).
+  if (run_filter.window_frames != given_options.filter.window_frames) {
+    // The frames' rate is not filter_frame_rate_hz: windows of as many seconds
+    // (options_at_frame_rate).
     result.diagnostics["window_frames"] = static_cast<double>(run_filter.window_frames);
   }
   if (run_filter.steadiness_block_frames > 1) {

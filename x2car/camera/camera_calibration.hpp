@@ -130,7 +130,8 @@ struct CameraCalibrationOptions {
   // straight, even stretch of road at any rate; a 30 Hz video windowed by 100 frames passed
   // windows of 3.3 s through curves and accelerations (simulated mixed drive 304 at 30 Hz: nine
   // windows that disagreed by 0.9 deg in pitch, where its 10 Hz twin had one steady window).
-  // 0: the counts as given, at any rate.
+  // The first look's motion_guide_frame_step is scaled alike (a sample a second). 0: the counts
+  // as given, at any rate.
   double filter_frame_rate_hz = 10.0;
   // For an estimator whose angles scatter from frame to frame with no memory (motion: one pair's
   // road plane; `estimator_scatters`), the filter's steadiness_block_frames (at most half the
@@ -214,6 +215,15 @@ struct CameraFrameSource {
 // speed lost that a sequential decoder could feed).
 // A source that decodes in order (a video) keeps about twice that many behind its decoder.
 std::size_t camera_frames_in_flight();
+
+// `options` for frames at `times` (CameraCalibrationOptions::filter_frame_rate_hz): the counts of
+// frames given at that rate (the filter's window_frames and min_road_plane_frames,
+// noisy_estimator_block_frames, motion_guide_frame_step) hold as many seconds at the frames' own
+// rate, one over the median interval of `times` (a 30 Hz video: windows of 300 frames); a window
+// never below 2 frames, a block or a step below 1. As given when filter_frame_rate_hz is 0 or
+// `times` has no interval. calibrate_camera applies it.
+CameraCalibrationOptions options_at_frame_rate(const CameraCalibrationOptions& options,
+                                               const std::vector<double>& times);
 
 // Returns ok, insufficient_data (the filter's reason: "only 43 frames in stable stretches; need
 // 100") or unreliable; never NaN angles. InputError from `read` passes through unless

@@ -101,6 +101,45 @@ TEST(CalibrateCamera, RecoversTheMountingOfAStreetDrive) {
   }
 }
 
+// Counts of frames given at 10 Hz hold as many seconds at the frames' own rate (the median
+// interval: a dropped frame or a repeated time does not move it).
+TEST(CalibrateCamera, FrameCountsAreScaledToTheFramesRate) {
+  const CameraCalibrationOptions defaults;
+  const auto times_at = [](double rate_hz, std::size_t count) {
+    std::vector<double> times;
+    for (std::size_t i = 0; i < count; ++i) times.push_back(5.0 + static_cast<double>(i) / rate_hz);
+    return times;
+  };
+  std::vector<double> at_30_hz = times_at(30.0, 50);
+  at_30_hz.erase(at_30_hz.begin() + 20);                 // a dropped frame
+  at_30_hz.insert(at_30_hz.begin() + 30, at_30_hz[30]);  // a repeated time
+  const CameraCalibrationOptions fast = options_at_frame_rate(defaults, at_30_hz);
+  EXPECT_EQ(fast.filter.window_frames, 300);
+  EXPECT_EQ(fast.filter.min_road_plane_frames, 99);
+  EXPECT_EQ(fast.noisy_estimator_block_frames, 30);
+  EXPECT_EQ(fast.motion_guide_frame_step, 30);
+  const CameraCalibrationOptions slow = options_at_frame_rate(defaults, times_at(5.0, 10));
+  EXPECT_EQ(slow.filter.window_frames, 50);
+  EXPECT_NEAR(slow.filter.min_road_plane_frames, 16.5, 0.5);  // 33 halved, rounded either way
+  EXPECT_EQ(slow.noisy_estimator_block_frames, 5);
+  EXPECT_EQ(slow.motion_guide_frame_step, 5);
+  // A very slow log keeps a window of 2 frames, a block and a step of 1.
+  const CameraCalibrationOptions sparse = options_at_frame_rate(defaults, times_at(0.01, 3));
+  EXPECT_EQ(sparse.filter.window_frames, 2);
+  EXPECT_EQ(sparse.noisy_estimator_block_frames, 1);
+  EXPECT_EQ(sparse.motion_guide_frame_step, 1);
+  EXPECT_NO_THROW(sparse.Check());
+  // As given: at 10 Hz, with one frame, without the rate, and a first look that is off.
+  EXPECT_EQ(options_at_frame_rate(defaults, times_at(10.0, 20)).filter.window_frames, 100);
+  EXPECT_EQ(options_at_frame_rate(defaults, {3.0}).filter.window_frames, 100);
+  CameraCalibrationOptions as_given = defaults;
+  as_given.filter_frame_rate_hz = 0.0;
+  EXPECT_EQ(options_at_frame_rate(as_given, at_30_hz).filter.window_frames, 100);
+  CameraCalibrationOptions no_look = defaults;
+  no_look.motion_guide_frame_step = 0;
+  EXPECT_EQ(options_at_frame_rate(no_look, at_30_hz).motion_guide_frame_step, 0);
+}
+
 // The paper's window is 100 frames of a 10 Hz camera, 10 s of road; at another frame rate a
 // window holds as many seconds (filter_frame_rate_hz), not as many frames: a 30 Hz video windowed
 // by frame count passed windows of a third of the time through curves and accelerations. Here 12
