@@ -307,8 +307,7 @@ int main(int argc, char** argv) {
     if (argument == "--segment" && i + 1 < argc) {
       segment_s = std::atof(argv[++i]);
     } else if (argument == "--window-frames" && i + 1 < argc) {
-      options.filter.window_frames = std::atoi(argv[++i]);
-      options.filter_frame_rate_hz = 0.0;  // as given, at any rate
+      options.window_frames_at_any_rate = std::atoi(argv[++i]);  // as given, at any rate
     } else if (argument == "--ins") {
       with_ins = true;
     } else if (argument == "--estimator" && i + 1 < argc) {

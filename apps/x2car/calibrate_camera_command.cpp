@@ -66,11 +66,8 @@ camera::CameraCalibrationOptions calibration_options(const CalibrateCameraArgume
   if (!arguments.facing.empty()) {
     options.facing = enum_from_string(camera::kCameraFacingNames, arguments.facing, "facing");
   }
-  if (arguments.window_frames) {
-    // Frames as given, at any frame rate (the default scales with the rate).
-    options.filter.window_frames = *arguments.window_frames;
-    options.filter_frame_rate_hz = 0.0;
-  }
+  // Frames as given, at any frame rate (the default scales with the rate).
+  options.window_frames_at_any_rate = arguments.window_frames;
   if (arguments.max_window_std_deg) {
     options.filter.max_window_std = rad_from_deg(*arguments.max_window_std_deg);
   }
@@ -346,7 +343,8 @@ RunCommand setup_calibrate_camera_command(CLI::App& command) {
   add_output_options(command, arguments->output);
   command.footer(
       "Each frame's vanishing point of the road and horizon give the rotation; frames are kept "
-      "only in windows where the angles are steady (the paper's n = 100 frames, std < 0.005 rad). "
+      "only in windows where the angles are steady (the paper's n = 100 frames at 10 Hz: 10 s, "
+      "as many seconds at other frame rates; std < 0.005 rad). "
       "--yaml and --urdf hold camera_link and the optical frame. See docs/methods.md.\n"
       "\n"
       "Example:\n"

@@ -37,6 +37,10 @@ void CameraCalibrationOptions::Check() const {
   if (refuse_standing) standing_check.Check();
   check.at_least("noisy_estimator_block_frames", noisy_estimator_block_frames, 1);
   check.non_negative("filter_frame_rate_hz", filter_frame_rate_hz);
+  check.non_negative("filter_frame_rate_tolerance", filter_frame_rate_tolerance);
+  if (window_frames_at_any_rate) {
+    check.at_least("window_frames_at_any_rate", *window_frames_at_any_rate, 2);
+  }
   check.at_least("estimator_min_windows", estimator_min_windows, 1);
   check.at_least("estimator_standard_error_floor", estimator_standard_error_floor, 0.0);
   check.at_least("motion_guide_frame_step", motion_guide_frame_step, 0);
@@ -107,18 +111,31 @@ std::optional<double> frame_rate_hz(const std::vector<double>& times) {
 
 CameraCalibrationOptions options_at_frame_rate(const CameraCalibrationOptions& options,
                                                const std::vector<double>& times) {
-  const std::optional<double> rate = frame_rate_hz(times);
-  if (options.filter_frame_rate_hz <= 0.0 || !rate) return options;
-  const double scale = *rate / options.filter_frame_rate_hz;
-  const auto scaled = [scale](int count, int least) {
-    return std::max(least, static_cast<int>(std::lround(static_cast<double>(count) * scale)));
-  };
   CameraCalibrationOptions at_rate = options;
-  at_rate.filter.window_frames = scaled(options.filter.window_frames, 2);
-  at_rate.filter.min_road_plane_frames = scaled(options.filter.min_road_plane_frames, 2);
-  at_rate.noisy_estimator_block_frames = scaled(options.noisy_estimator_block_frames, 1);
-  if (options.motion_guide_frame_step > 0) {
-    at_rate.motion_guide_frame_step = scaled(options.motion_guide_frame_step, 1);
+  const std::optional<double> rate = frame_rate_hz(times);
+  if (options.filter_frame_rate_hz > 0.0 && rate &&
+      std::abs(std::log(*rate / options.filter_frame_rate_hz)) >
+          std::log1p(options.filter_frame_rate_tolerance)) {
+    const double scale = *rate / options.filter_frame_rate_hz;
+    // At most a billion frames: a scale from intervals of nanoseconds stays an int.
+    const auto scaled = [scale](int count, int least) {
+      return std::max(
+          least, static_cast<int>(std::lround(std::min(static_cast<double>(count) * scale, 1e9))));
+    };
+    at_rate.filter.window_frames = scaled(options.filter.window_frames, 2);
+    at_rate.filter.min_road_plane_frames = scaled(options.filter.min_road_plane_frames, 2);
+    at_rate.filter.steadiness_block_frames =
+        std::min(scaled(options.filter.steadiness_block_frames, 1),
+                 std::max(1, at_rate.filter.window_frames / 2));
+    at_rate.noisy_estimator_block_frames = scaled(options.noisy_estimator_block_frames, 1);
+    if (options.motion_guide_frame_step > 0) {
+      at_rate.motion_guide_frame_step = scaled(options.motion_guide_frame_step, 1);
+    }
+  }
+  if (options.window_frames_at_any_rate) {
+    at_rate.filter.window_frames = *options.window_frames_at_any_rate;
+    at_rate.filter.steadiness_block_frames =
+        std::min(at_rate.filter.steadiness_block_frames, at_rate.filter.window_frames / 2);
   }
   return at_rate;
 }

@@ -129,6 +129,28 @@ TEST(CalibrateCamera, FrameCountsAreScaledToTheFramesRate) {
   EXPECT_EQ(sparse.noisy_estimator_block_frames, 1);
   EXPECT_EQ(sparse.motion_guide_frame_step, 1);
   EXPECT_NO_THROW(sparse.Check());
+  // A filter's own steadiness blocks (a caller's, for any estimator) scale too, and stay at most
+  // half the window: 10 frames at 10 Hz against a window of 10 at 1 Hz.
+  CameraCalibrationOptions blocks = defaults;
+  blocks.filter.steadiness_block_frames = 10;
+  const CameraCalibrationOptions at_1_hz = options_at_frame_rate(blocks, times_at(1.0, 10));
+  EXPECT_EQ(at_1_hz.filter.window_frames, 10);
+  EXPECT_EQ(at_1_hz.filter.steadiness_block_frames, 1);
+  EXPECT_EQ(options_at_frame_rate(blocks, at_30_hz).filter.steadiness_block_frames, 30);
+  EXPECT_NO_THROW(at_1_hz.Check());
+  // A window given at any rate; the rest still follows the rate.
+  CameraCalibrationOptions given = defaults;
+  given.window_frames_at_any_rate = 12;
+  const CameraCalibrationOptions given_at_30_hz = options_at_frame_rate(given, at_30_hz);
+  EXPECT_EQ(given_at_30_hz.filter.window_frames, 12);
+  EXPECT_EQ(given_at_30_hz.noisy_estimator_block_frames, 30);
+  EXPECT_EQ(given_at_30_hz.motion_guide_frame_step, 30);
+  EXPECT_EQ(options_at_frame_rate(given, times_at(10.0, 20)).filter.window_frames, 12);
+  given.window_frames_at_any_rate = 1;
+  EXPECT_THROW(given.Check(), std::invalid_argument);
+  // KITTI's own camera (0.1036 s by its timestamps) keeps the paper's n; 11.5 Hz does not.
+  EXPECT_EQ(options_at_frame_rate(defaults, times_at(1.0 / 0.1036, 20)).filter.window_frames, 100);
+  EXPECT_EQ(options_at_frame_rate(defaults, times_at(11.5, 20)).filter.window_frames, 115);
   // As given: at 10 Hz, with one frame, without the rate, and a first look that is off.
   EXPECT_EQ(options_at_frame_rate(defaults, times_at(10.0, 20)).filter.window_frames, 100);
   EXPECT_EQ(options_at_frame_rate(defaults, {3.0}).filter.window_frames, 100);
