@@ -846,8 +846,8 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
   }
   count_frames(records, verdicts, result);
   if (run_filter.window_frames != given_options.filter.window_frames) {
-    // The frames' rate is not filter_frame_rate_hz: windows of as many seconds
-    // (options_at_frame_rate).
+    // The frames' rate is not filter_frame_rate_hz (windows of as many seconds), or the window
+    // was given at any rate (options_at_frame_rate).
     result.diagnostics["window_frames"] = static_cast<double>(run_filter.window_frames);
   }
   if (run_filter.steadiness_block_frames > 1) {
