@@ -124,9 +124,11 @@ CameraCalibrationOptions options_at_frame_rate(const CameraCalibrationOptions& o
     };
     at_rate.filter.window_frames = scaled(options.filter.window_frames, 2);
     at_rate.filter.min_road_plane_frames = scaled(options.filter.min_road_plane_frames, 2);
-    at_rate.filter.steadiness_block_frames =
-        std::min(scaled(options.filter.steadiness_block_frames, 1),
-                 std::max(1, at_rate.filter.window_frames / 2));
+    // The filter's own blocks are not scaled: 1 is the paper's test on each frame's angles at any
+    // rate (blocks of 3 at 30 Hz would average the frames' noise down and pass windows that the
+    // paper's test does not); a caller's larger block stays at most half the window.
+    at_rate.filter.steadiness_block_frames = std::min(
+        options.filter.steadiness_block_frames, std::max(1, at_rate.filter.window_frames / 2));
     at_rate.noisy_estimator_block_frames = scaled(options.noisy_estimator_block_frames, 1);
     if (options.motion_guide_frame_step > 0) {
       at_rate.motion_guide_frame_step = scaled(options.motion_guide_frame_step, 1);

@@ -120,8 +120,8 @@ struct CameraCalibrationOptions {
   // ahead moves out of the lower image between frames at city speeds).
   double max_pair_gap_s = 0.25;
   // The paper's window and threshold, the motion gate, the averaging and the standard errors.
-  // Its frame counts (window_frames, steadiness_block_frames, min_road_plane_frames) and
-  // noisy_estimator_block_frames below are given at filter_frame_rate_hz.
+  // Its frame counts (window_frames, min_road_plane_frames) and noisy_estimator_block_frames below
+  // are given at filter_frame_rate_hz; its steadiness_block_frames holds at any rate.
   TemporalFilterOptions filter;
   // The frame rate the frame counts above are given at [Hz]: the paper's n = 100 frames are 10 s of
   // KITTI's 10 Hz camera (§IV-A). Frames at another rate (the median interval of the frames'
@@ -223,13 +223,13 @@ struct CameraFrameSource {
 std::size_t camera_frames_in_flight();
 
 // `options` for frames at `times` (CameraCalibrationOptions::filter_frame_rate_hz): the counts of
-// frames given at that rate (the filter's window_frames, steadiness_block_frames and
-// min_road_plane_frames, noisy_estimator_block_frames, motion_guide_frame_step) hold as many
-// seconds at the frames' own rate, one over the median interval of `times` (a 30 Hz video:
-// windows of 300 frames); a window never below 2 frames, a block or a step below 1, a block at
-// most half the window. As given when filter_frame_rate_hz is 0, the rate is within
-// filter_frame_rate_tolerance of it, or `times` has no interval; window_frames_at_any_rate, when
-// set, is the window. calibrate_camera applies it.
+// frames given at that rate (the filter's window_frames and min_road_plane_frames,
+// noisy_estimator_block_frames, motion_guide_frame_step) hold as many seconds at the frames' own
+// rate, one over the median interval of `times` (a 30 Hz video: windows of 300 frames); a window
+// never below 2 frames, a block or a step below 1; the filter's own steadiness_block_frames (1:
+// the paper's test on each frame) kept, at most half the window. As given when filter_frame_rate_hz
+// is 0, the rate is within filter_frame_rate_tolerance of it, or `times` has no interval;
+// window_frames_at_any_rate, when set, is the window. calibrate_camera applies it.
 CameraCalibrationOptions options_at_frame_rate(const CameraCalibrationOptions& options,
                                                const std::vector<double>& times);
 

@@ -129,14 +129,15 @@ TEST(CalibrateCamera, FrameCountsAreScaledToTheFramesRate) {
   EXPECT_EQ(sparse.noisy_estimator_block_frames, 1);
   EXPECT_EQ(sparse.motion_guide_frame_step, 1);
   EXPECT_NO_THROW(sparse.Check());
-  // A filter's own steadiness blocks (a caller's, for any estimator) scale too, and stay at most
-  // half the window: 10 frames at 10 Hz against a window of 10 at 1 Hz.
+  // The filter's own blocks (1: the paper's test on each frame) keep their count, at most half
+  // the window: a caller's 10 against a window of 10 at 1 Hz.
+  EXPECT_EQ(fast.filter.steadiness_block_frames, 1);
   CameraCalibrationOptions blocks = defaults;
   blocks.filter.steadiness_block_frames = 10;
   const CameraCalibrationOptions at_1_hz = options_at_frame_rate(blocks, times_at(1.0, 10));
   EXPECT_EQ(at_1_hz.filter.window_frames, 10);
-  EXPECT_EQ(at_1_hz.filter.steadiness_block_frames, 1);
-  EXPECT_EQ(options_at_frame_rate(blocks, at_30_hz).filter.steadiness_block_frames, 30);
+  EXPECT_EQ(at_1_hz.filter.steadiness_block_frames, 5);
+  EXPECT_EQ(options_at_frame_rate(blocks, at_30_hz).filter.steadiness_block_frames, 10);
   EXPECT_NO_THROW(at_1_hz.Check());
   // A window given at any rate; the rest still follows the rate.
   CameraCalibrationOptions given = defaults;
