@@ -28,6 +28,7 @@ void CameraCalibrationOptions::Check() const {
   const OptionsCheck check("CameraCalibrationOptions");
   if (!estimator && method != CameraMethod::kMotion) geometric.Check();
   if (!estimator && method != CameraMethod::kGeometric) motion.Check();
+  check.at_least("motion_frame_step", motion_frame_step, 1);
   check.positive("max_pair_gap_s", max_pair_gap_s);
   if (facing == CameraFacing::kFromMotion) {
     facing_check.Check();
@@ -95,8 +96,12 @@ std::optional<VehicleMotion> motion_at(const CameraFrameSource& frames, std::siz
   return frames.motion.empty() ? std::nullopt : frames.motion[index];
 }
 
-// The frames' rate [Hz]: one over the median interval between consecutive frames; nullopt with
-// fewer than two frames or no interval above zero.
+// The frames' rate [Hz]: one over the mean interval between consecutive frames, of the intervals
+// within half and twice the median one (a dropped frame, a stop in the recording, a repeated time
+// left out); nullopt with fewer than two frames or no interval above zero. Not the median alone:
+// a stream whose intervals alternate (3:2 pulldown, a driver that publishes in bursts) has its
+// median at one of the two, and which one can flip with a single frame: intervals of 1/30 s and
+// 1/20 s in turns three to two are 25 Hz, not 30.
 std::optional<double> frame_rate_hz(const std::vector<double>& times) {
   std::vector<double> intervals;
   intervals.reserve(times.size());
@@ -104,7 +109,16 @@ std::optional<double> frame_rate_hz(const std::vector<double>& times) {
     if (times[i] > times[i - 1]) intervals.push_back(times[i] - times[i - 1]);
   }
   if (intervals.empty()) return std::nullopt;
-  return 1.0 / median(intervals);
+  const double typical_s = median(intervals);
+  double sum_s = 0.0;
+  std::size_t count = 0;
+  for (const double interval_s : intervals) {
+    if (interval_s < 0.5 * typical_s || interval_s > 2.0 * typical_s) continue;
+    sum_s += interval_s;
+    ++count;
+  }
+  // The upper of the middle intervals is at most twice the median and at least it: never empty.
+  return static_cast<double>(count) / sum_s;
 }
 
 }  // namespace
@@ -133,6 +147,7 @@ CameraCalibrationOptions options_at_frame_rate(const CameraCalibrationOptions& o
     if (options.motion_guide_frame_step > 0) {
       at_rate.motion_guide_frame_step = scaled(options.motion_guide_frame_step, 1);
     }
+    at_rate.motion_frame_step = scaled(options.motion_frame_step, 1);
   }
   if (options.window_frames_at_any_rate) {
     at_rate.filter.window_frames = *options.window_frames_at_any_rate;
@@ -290,25 +305,34 @@ class FrameReader {
   std::size_t bytes_held_ = 0;
 };
 
-// The motion estimate of frame `index` from it and the frames before (read through the cache:
-// frames are estimated in parallel, in no order). Each step between them at most max_pair_gap_s.
+// How many frames before the current one the motion estimator's oldest frame is: tracked_frames
+// frames, motion_frame_step apart.
+std::size_t sequence_reach(const CameraCalibrationOptions& options) {
+  return static_cast<std::size_t>(std::max(options.motion.tracked_frames - 1, 0)) *
+         static_cast<std::size_t>(std::max(options.motion_frame_step, 1));
+}
+
+// The motion estimate of frame `index` from it and the frames before (motion_frame_step apart,
+// read through the cache: frames are estimated in parallel, in no order). No two frames between
+// them more than max_pair_gap_s apart.
 FrameEstimate estimate_sequence(const CameraFrameSource& frames, FrameReader& reader,
                                 const core::CameraIntrinsics& intrinsics,
                                 const CameraCalibrationOptions& options,
                                 const SequenceEstimator& estimator, std::size_t index,
                                 const cv::Mat& image, const std::optional<SequenceGuide>& guide) {
-  const auto span = static_cast<std::size_t>(options.motion.tracked_frames);
-  if (index + 1 < span) return rejected_frame(FrameRejection::kNoPreviousFrame);
-  const std::size_t first = index + 1 - span;
+  const std::size_t reach = sequence_reach(options);
+  if (index < reach) return rejected_frame(FrameRejection::kNoPreviousFrame);
+  const std::size_t first = index - reach;
   for (std::size_t i = first + 1; i <= index; ++i) {
     if (frames.times[i] - frames.times[i - 1] > options.max_pair_gap_s) {
       return rejected_frame(FrameRejection::kNoPreviousFrame);
     }
   }
+  const auto step = static_cast<std::size_t>(std::max(options.motion_frame_step, 1));
   std::vector<cv::Mat> sequence;
-  sequence.reserve(span);
+  sequence.reserve(static_cast<std::size_t>(options.motion.tracked_frames));
   try {
-    for (std::size_t i = first; i < index; ++i) sequence.push_back(reader.read(i));
+    for (std::size_t i = first; i < index; i += step) sequence.push_back(reader.read(i));
   } catch (const InputError&) {
     // Its own turn in the pipeline reports it (or counts it, with skip_bad_images).
     if (!options.skip_bad_images) throw;
@@ -371,8 +395,7 @@ void estimate_frame(const CameraFrameSource& frames, FrameReader& reader,
                                              estimate.horizon_line, camera_matrix);
   std::optional<ImageMotion> image_motion;
   if (estimate.pair_motion) {
-    const auto span = static_cast<std::size_t>(options.motion.tracked_frames);
-    const double pair_s = frames.times[index] - frames.times[index + 1 - span];
+    const double pair_s = frames.times[index] - frames.times[index - sequence_reach(options)];
     image_motion =
         ImageMotion{.yaw_rate = estimate.pair_motion->turn_about_up / pair_s,
                     .speed_over_height = estimate.pair_motion->travel_over_height / pair_s};
@@ -422,7 +445,6 @@ FirstLook first_look(const CameraFrameSource& frames, FrameReader& reader,
   // run_frames, no exception leaves a filter: the first is rethrown once the pipeline has drained.
   // An unreadable frame is not one: the run meets it again and reports it (or counts it,
   // skip_bad_images).
-  const auto span = static_cast<std::size_t>(options.motion.tracked_frames);
   struct Sample {
     std::size_t sample = 0;
     cv::Mat image;
@@ -434,30 +456,32 @@ FirstLook first_look(const CameraFrameSource& frames, FrameReader& reader,
     const std::lock_guard lock(error_mutex);
     if (!first_error) first_error = std::current_exception();
   };
+  // The next sample's frame and the ones its pair reaches back to, held for the run.
+  const std::size_t reach = sequence_reach(options);
+  const auto frame_step = static_cast<std::size_t>(std::max(options.motion_frame_step, 1));
+  const auto next_sample_read = [&](tbb::flow_control& control) -> Sample {
+    while (next_sample < samples) {
+      const std::size_t sample = next_sample++;
+      const std::size_t index = sample * step + step - 1;
+      if (motion_gate(motion_at(frames, index), options.filter)) continue;
+      try {
+        for (std::size_t i = index >= reach ? index - reach : index; i < index; i += frame_step) {
+          reader.hold(i);
+        }
+        return {sample, reader.hold(index)};
+      } catch (const InputError&) {
+        continue;  // the run reports it
+      } catch (...) {
+        keep_error();
+        break;
+      }
+    }
+    control.stop();
+    return {};
+  };
   tbb::parallel_pipeline(
       camera_frames_in_flight(),
-      tbb::make_filter<void, Sample>(
-          tbb::filter_mode::serial_in_order,
-          [&](tbb::flow_control& control) -> Sample {
-            while (next_sample < samples) {
-              const std::size_t sample = next_sample++;
-              const std::size_t index = sample * step + step - 1;
-              if (motion_gate(motion_at(frames, index), options.filter)) continue;
-              try {
-                for (std::size_t i = index + 1 >= span ? index + 1 - span : index; i < index; ++i) {
-                  reader.hold(i);
-                }
-                return {sample, reader.hold(index)};
-              } catch (const InputError&) {
-                continue;  // the run reports it
-              } catch (...) {
-                keep_error();
-                break;
-              }
-            }
-            control.stop();
-            return {};
-          }) &
+      tbb::make_filter<void, Sample>(tbb::filter_mode::serial_in_order, next_sample_read) &
           tbb::make_filter<Sample, void>(tbb::filter_mode::parallel, [&](const Sample& sample) {
             const std::size_t index = sample.sample * step + step - 1;
             try {
@@ -511,7 +535,7 @@ std::vector<FrameRecord> run_frames(const CameraFrameSource& frames, FrameReader
   std::exception_ptr first_error;
   std::atomic<bool> stopping = false;
   const std::size_t in_flight = camera_frames_in_flight();
-  const auto span = static_cast<std::size_t>(std::max(options.motion.tracked_frames, 1));
+  const std::size_t reach = sequence_reach(options);
   // No exception may leave a filter (a cancelled pipeline leaks its tokens' work): the first error
   // in frame order stops the reading and is rethrown once the pipeline has drained.
   tbb::parallel_pipeline(
@@ -548,8 +572,8 @@ std::vector<FrameRecord> run_frames(const CameraFrameSource& frames, FrameReader
                 verdicts[index] = filter.add(frames.times[index], record.angles,
                                              motion_at(frames, index), record.road_plane);
                 // Every frame up to here is estimated; the pairs still to come read from
-                // index + 2 - span on.
-                if (index + 1 >= span) reader.release_through(index + 1 - span);
+                // index + 1 - reach on.
+                if (index >= reach) reader.release_through(index - reach);
                 if (options.progress) options.progress(index + 1, count);
               }));
   if (first_error) std::rethrow_exception(first_error);
@@ -811,9 +835,7 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
   // The frames in flight and the ones before them that their pairs need (none without pairs).
   const std::size_t in_flight = camera_frames_in_flight();
   FrameReader reader(frames, intrinsics,
-                     estimators.sequence
-                         ? 2 * in_flight + static_cast<std::size_t>(options.motion.tracked_frames)
-                         : 0,
+                     estimators.sequence ? 2 * in_flight + sequence_reach(options) + 1 : 0,
                      options.first_look_kept_bytes);
   std::optional<FirstLook> look;  // motion alone, unless motion_guide_frame_step is 0
   if (estimators.sequence && !estimators.single && options.motion_guide_frame_step > 0) {
@@ -851,6 +873,10 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
     // The frames' rate is not filter_frame_rate_hz (windows of as many seconds), or the window
     // was given at any rate (options_at_frame_rate).
     result.diagnostics["window_frames"] = static_cast<double>(run_filter.window_frames);
+  }
+  if (estimators.sequence && options.motion_frame_step != given_options.motion_frame_step) {
+    // The motion estimator's pairs span as many seconds at the frames' rate.
+    result.diagnostics["motion_frame_step"] = static_cast<double>(options.motion_frame_step);
   }
   if (run_filter.steadiness_block_frames > 1) {
     // A noisy estimator's windows were tested on blocks of frames (filter_options).

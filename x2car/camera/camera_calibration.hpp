@@ -115,23 +115,31 @@ struct CameraCalibrationOptions {
   // for the run, up to this many bytes of images [B], and let go once the run has passed them:
   // decoding is a sixth of the motion estimator's time. 0: none kept (the run decodes them again).
   std::size_t first_look_kept_bytes = std::size_t{256} << 20;
-  // The motion estimator pairs a frame with the one before it when they are at most this far apart
-  // [s]; otherwise the frame is no_previous_frame (0.25 s: down to 4 Hz video; past it the road
-  // ahead moves out of the lower image between frames at city speeds).
+  // The motion estimator's frames are this many frames apart (given at filter_frame_rate_hz, and
+  // scaled with the frames' rate as the counts below are): it pairs each frame with the one
+  // motion_frame_step frames before it. 1 at 10 Hz: pairs 0.1 s apart, KITTI's camera's. At 30 Hz
+  // the frame before is a third of the travel away, and the road's parallax, from which the plane
+  // comes, a third of it: on a simulated 30 Hz mixed drive 16 % of the pairs were
+  // too_little_motion where its 10 Hz twin had 7.5 %. Scaled to 3 there, a pair spans 0.1 s again.
+  int motion_frame_step = 1;
+  // The motion estimator pairs a frame with one before it when no two frames between them are
+  // more than this far apart [s]; otherwise the frame is no_previous_frame (0.25 s: down to 4 Hz
+  // video; past it the road ahead moves out of the lower image between frames at city speeds).
   double max_pair_gap_s = 0.25;
   // The paper's window and threshold, the motion gate, the averaging and the standard errors.
   // Its frame counts (window_frames, min_road_plane_frames) and noisy_estimator_block_frames below
   // are given at filter_frame_rate_hz; its steadiness_block_frames holds at any rate.
   TemporalFilterOptions filter;
   // The frame rate the frame counts above are given at [Hz]: the paper's n = 100 frames are 10 s of
-  // KITTI's 10 Hz camera (§IV-A). Frames at another rate (the median interval of the frames'
-  // times) get windows of as many seconds, the counts scaled by the ratio of the rates: a 30 Hz
-  // video's windows hold 300 frames, a 5 Hz log's 50. The steadiness test asks for as long a
-  // straight, even stretch of road at any rate; a 30 Hz video windowed by 100 frames passed
-  // windows of 3.3 s through curves and accelerations (simulated mixed drive 304 at 30 Hz: nine
-  // windows that disagreed by 0.9 deg in pitch, where its 10 Hz twin had one steady window).
-  // The first look's motion_guide_frame_step is scaled alike (a sample a second). 0: the counts
-  // as given, at any rate.
+  // KITTI's 10 Hz camera (§IV-A). Frames at another rate (one over the mean interval of the
+  // frames' times, of those within half and twice the median one) get windows of as many seconds,
+  // the counts scaled by the ratio of the rates: a 30 Hz video's windows hold 300 frames, a 5 Hz
+  // log's 50. The steadiness test asks for as long a straight, even stretch of road at any rate;
+  // a 30 Hz video windowed by 100 frames passed windows of 3.3 s through curves and
+  // accelerations (simulated mixed drive 304 at 30 Hz: nine windows that disagreed by 0.9 deg in
+  // pitch, where its 10 Hz twin had one steady window). The first look's motion_guide_frame_step
+  // and motion_frame_step are scaled alike (a sample a second; pairs 0.1 s apart). 0: the counts as
+  // given, at any rate.
   double filter_frame_rate_hz = 10.0;
   // Rates within this share of filter_frame_rate_hz keep the counts as given: KITTI's camera,
   // the paper's, runs at 9.65 Hz by its timestamps (0.1036 s), and its n is 100.
@@ -224,12 +232,13 @@ std::size_t camera_frames_in_flight();
 
 // `options` for frames at `times` (CameraCalibrationOptions::filter_frame_rate_hz): the counts of
 // frames given at that rate (the filter's window_frames and min_road_plane_frames,
-// noisy_estimator_block_frames, motion_guide_frame_step) hold as many seconds at the frames' own
-// rate, one over the median interval of `times` (a 30 Hz video: windows of 300 frames); a window
-// never below 2 frames, a block or a step below 1; the filter's own steadiness_block_frames (1:
-// the paper's test on each frame) kept, at most half the window. As given when filter_frame_rate_hz
-// is 0, the rate is within filter_frame_rate_tolerance of it, or `times` has no interval;
-// window_frames_at_any_rate, when set, is the window. calibrate_camera applies it.
+// noisy_estimator_block_frames, motion_guide_frame_step, motion_frame_step) hold as many seconds
+// at the frames' own rate, one over the mean interval of `times` within half and twice the median
+// one (a 30 Hz video: windows of 300 frames); a window never below 2 frames, a block or a step
+// below 1; the filter's own steadiness_block_frames (1: the paper's test on each frame) kept, at
+// most half the window. As given when filter_frame_rate_hz is 0, the rate is within
+// filter_frame_rate_tolerance of it, or `times` has no interval; window_frames_at_any_rate, when
+// set, is the window. calibrate_camera applies it.
 CameraCalibrationOptions options_at_frame_rate(const CameraCalibrationOptions& options,
                                                const std::vector<double>& times);
 

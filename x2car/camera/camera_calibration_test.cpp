@@ -128,7 +128,15 @@ TEST(CalibrateCamera, FrameCountsAreScaledToTheFramesRate) {
   EXPECT_EQ(sparse.filter.window_frames, 2);
   EXPECT_EQ(sparse.noisy_estimator_block_frames, 1);
   EXPECT_EQ(sparse.motion_guide_frame_step, 1);
+  EXPECT_EQ(sparse.motion_frame_step, 1);
   EXPECT_NO_THROW(sparse.Check());
+  // The motion estimator's pairs span 0.1 s at any rate (half a step rounds up at 5 Hz).
+  EXPECT_EQ(fast.motion_frame_step, 3);
+  EXPECT_EQ(slow.motion_frame_step, 1);
+  EXPECT_EQ(options_at_frame_rate(defaults, times_at(60.0, 20)).motion_frame_step, 6);
+  CameraCalibrationOptions no_step = defaults;
+  no_step.motion_frame_step = 0;
+  EXPECT_THROW(no_step.Check(), std::invalid_argument);
   // The filter's own blocks (1: the paper's test on each frame) keep their count, at most half
   // the window: a caller's 10 against a window of 10 at 1 Hz.
   EXPECT_EQ(fast.filter.steadiness_block_frames, 1);
@@ -149,6 +157,19 @@ TEST(CalibrateCamera, FrameCountsAreScaledToTheFramesRate) {
   EXPECT_EQ(options_at_frame_rate(given, times_at(10.0, 20)).filter.window_frames, 12);
   given.window_frames_at_any_rate = 1;
   EXPECT_THROW(given.Check(), std::invalid_argument);
+  // Intervals that alternate (a stream published in bursts), 1/30 s three times and 1/20 s twice,
+  // are 25 Hz, not the median's 30; two and three times, 23.1 Hz, not 20. A stop in the recording
+  // does not count.
+  const auto bursts = [](int short_intervals) {
+    std::vector<double> times{0.0};
+    for (int i = 0; i < 60; ++i) {
+      times.push_back(times.back() + (i % 5 < short_intervals ? 1.0 / 30 : 1.0 / 20));
+    }
+    times.push_back(times.back() + 2.0);
+    return times;
+  };
+  EXPECT_EQ(options_at_frame_rate(defaults, bursts(3)).filter.window_frames, 250);
+  EXPECT_EQ(options_at_frame_rate(defaults, bursts(2)).filter.window_frames, 231);
   // KITTI's own camera (0.1036 s by its timestamps) keeps the paper's n; 11.5 Hz does not.
   EXPECT_EQ(options_at_frame_rate(defaults, times_at(1.0 / 0.1036, 20)).filter.window_frames, 100);
   EXPECT_EQ(options_at_frame_rate(defaults, times_at(11.5, 20)).filter.window_frames, 115);
@@ -493,6 +514,39 @@ TEST(CalibrateCamera, MotionDecodesEachFrameOnce) {
   calibrate_camera(frames, core::camera_preset("kitti"), options);
   EXPECT_GE(reads.load(), 40 + options.car_region.sample_frames);
   EXPECT_LE(reads.load(), 44 + options.car_region.sample_frames);
+}
+
+// At 30 Hz the frame before is a third of the 10 Hz pair's travel away, and so is the road's
+// parallax: the motion estimator pairs each frame with the one 0.1 s before it
+// (CameraCalibrationOptions::motion_frame_step, scaled with the rate), and still decodes each frame
+// once. A pair reaches 3 frames back: the first 3 frames have none, nor have the 3 after a gap in
+// the recording (the pairs that would span it).
+TEST(CalibrateCamera, MotionPairsSpanATenthOfASecondAtAnyFrameRate) {
+  CameraFrameSource frames = street_drive(45, 0.0, 0.0, 30.0);
+  for (std::size_t i = 20; i < frames.times.size(); ++i) frames.times[i] += 0.5;
+  std::atomic<int> reads = 0;
+  count_reads(frames, reads);
+  CameraCalibrationOptions options = short_windows();
+  options.method = CameraMethod::kMotion;
+  options.motion_guide_frame_step = 0;
+  options.detect_car_region = false;
+  const CalibrationResult paired = calibrate_camera(frames, core::camera_preset("kitti"), options);
+  EXPECT_EQ(paired.diagnostics.at("motion_frame_step"), 3.0);
+  EXPECT_EQ(paired.rejections.at("no_previous_frame"), 3 + 3);
+  EXPECT_GE(reads.load(), 45);
+  EXPECT_LE(reads.load(), 49);
+  // Consecutive frames (the counts as given): one frame at the start and one after the gap.
+  options.filter_frame_rate_hz = 0.0;
+  const CalibrationResult consecutive =
+      calibrate_camera(frames, core::camera_preset("kitti"), options);
+  EXPECT_FALSE(consecutive.diagnostics.contains("motion_frame_step"));
+  EXPECT_EQ(consecutive.rejections.at("no_previous_frame"), 1 + 1);
+  // A step given at 10 Hz is scaled alike: 2 -> 6 frames back at 30 Hz.
+  options.filter_frame_rate_hz = CameraCalibrationOptions{}.filter_frame_rate_hz;
+  options.motion_frame_step = 2;
+  const CalibrationResult longer = calibrate_camera(frames, core::camera_preset("kitti"), options);
+  EXPECT_EQ(longer.diagnostics.at("motion_frame_step"), 6.0);
+  EXPECT_EQ(longer.rejections.at("no_previous_frame"), 6 + 6);
 }
 
 // A video decodes forward only and keeps its last few frames (video_frames.hpp): a frame asked for
