@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <cmath>
 #include <filesystem>
 #include <optional>
 #include <stdexcept>
@@ -44,6 +45,7 @@ struct CalibrateCameraArguments {
   std::string facing;
   std::string model_path;
   std::optional<int> window_frames;
+  std::optional<double> max_frame_rate_hz;
   std::optional<double> max_window_std_deg;
   bool skip_bad_images = false;
   std::string mask;  // a file, "none", or empty: look for the car's own body
@@ -68,6 +70,7 @@ camera::CameraCalibrationOptions calibration_options(const CalibrateCameraArgume
   }
   // Frames as given, at any frame rate (the default scales with the rate).
   options.window_frames_at_any_rate = arguments.window_frames;
+  if (arguments.max_frame_rate_hz) options.max_frame_rate_hz = *arguments.max_frame_rate_hz;
   if (arguments.max_window_std_deg) {
     options.filter.max_window_std = rad_from_deg(*arguments.max_window_std_deg);
   }
@@ -231,6 +234,17 @@ int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
   if (!ins_log.empty()) {
     frames.motion = camera_motion_from_log(ins_log, frames, arguments.bag.ins_topic);
   }
+  if (!arguments.max_frame_rate_hz) {
+    // Every frame of a fast camera costs its time; say how to take fewer.
+    const std::optional<double> rate = camera::frames_rate_hz(frames.times);
+    const double paper_rate_hz = options.filter_frame_rate_hz;
+    if (rate && paper_rate_hz > 0.0 && *rate > 1.5 * paper_rate_hz) {
+      spdlog::info(
+          "the frames run at {:.3g} Hz and each is estimated; --max-frame-rate {:g} (the paper's "
+          "camera's rate) takes one in {}, in about that share of the time",
+          *rate, paper_rate_hz, std::lround(*rate / paper_rate_hz));
+    }
+  }
   ProgressBar progress("frames", spdlog::should_log(spdlog::level::info));
   options.progress = progress.callback();
   CalibrationResult result = camera::calibrate_camera(frames, intrinsics, options);
@@ -322,6 +336,13 @@ RunCommand setup_calibrate_camera_command(CLI::App& command) {
       ->check(CLI::Range(2, 100000))
       ->default_str(fmt::format("{} at {:g} Hz", defaults.filter.window_frames,
                                 defaults.filter_frame_rate_hz));
+  command
+      .add_option("--max-frame-rate", arguments->max_frame_rate_hz,
+                  "Estimate about this many frames a second at most: every n-th frame, n the "
+                  "frames' rate over this, rounded (a 30 Hz video at 10: every 3rd; the paper's "
+                  "camera ran at 10 Hz) [Hz]; default: every frame")
+      ->check(positive_number())
+      ->type_name("HZ");
   command
       .add_option("--max-window-std-deg", arguments->max_window_std_deg,
                   "Largest std of an angle over a window that counts as steady (the paper's e) "

@@ -671,12 +671,25 @@ std::filesystem::path write_camera_drive(const std::string& name, int frames,
 }
 
 // The default window is the paper's 100 frames at 10 Hz, as many seconds at the frames' rate (200
-// frames at 20 Hz); --window-frames gives the count as is, at any rate.
+// frames at 20 Hz); --window-frames gives the count as is, at any rate. --max-frame-rate takes
+// fewer frames of a fast camera, and the run says so when it is not given.
 TEST(CalibrateCamera, TheWindowHoldsAsManySecondsUnlessItsFramesAreGiven) {
   const auto folder = write_camera_drive("cli_calibrate_camera_20_hz", 24, 0.05);
   const CliRun by_default = run_x2car("calibrate camera --input " + folder.string());
   EXPECT_EQ(by_default.exit_code, 1) << by_default.output;
   EXPECT_THAT(by_default.output, HasSubstr("need 200"));
+  EXPECT_THAT(by_default.output, HasSubstr("the frames run at 20 Hz"));
+  EXPECT_THAT(by_default.output, HasSubstr("--max-frame-rate 10 (the paper's camera's rate) takes "
+                                           "one in 2"));
+  // At most 10 Hz: every other frame, 12 at 10 Hz, and the paper's window of 100 frames.
+  const CliRun fewer =
+      run_x2car("calibrate camera --input " + folder.string() + " --max-frame-rate 10");
+  EXPECT_EQ(fewer.exit_code, 1) << fewer.output;
+  EXPECT_THAT(fewer.output, HasSubstr("need 100"));
+  EXPECT_THAT(fewer.output, Not(HasSubstr("the frames run at")));
+  EXPECT_EQ(
+      run_x2car("calibrate camera --input " + folder.string() + " --max-frame-rate 0").exit_code,
+      2);
   const auto json = folder / "camera_result.json";
   const CliRun given = run_x2car("calibrate camera --input " + folder.string() +
                                  " --window-frames 12 --out " + json.string());
@@ -684,6 +697,7 @@ TEST(CalibrateCamera, TheWindowHoldsAsManySecondsUnlessItsFramesAreGiven) {
   EXPECT_THAT(given.output, HasSubstr("windows 2"));
   const CliRun help = run_x2car("calibrate camera --help");
   EXPECT_THAT(help.output, HasSubstr("100 at 10 Hz"));
+  EXPECT_THAT(help.output, HasSubstr("--max-frame-rate HZ"));
 }
 
 TEST(CalibrateCamera, RecoversTheMountingFromAFolderOfImages) {

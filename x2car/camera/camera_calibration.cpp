@@ -10,6 +10,7 @@
 #include <deque>
 #include <exception>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <opencv2/core.hpp>
 #include <thread>
@@ -30,6 +31,7 @@ void CameraCalibrationOptions::Check() const {
   if (!estimator && method != CameraMethod::kGeometric) motion.Check();
   check.at_least("motion_frame_step", motion_frame_step, 1);
   check.positive("max_pair_gap_s", max_pair_gap_s);
+  check.non_negative("max_frame_rate_hz", max_frame_rate_hz);
   if (facing == CameraFacing::kFromMotion) {
     facing_check.Check();
     check.positive("facing_pair_interval_s", facing_pair_interval_s);
@@ -96,19 +98,18 @@ std::optional<VehicleMotion> motion_at(const CameraFrameSource& frames, std::siz
   return frames.motion.empty() ? std::nullopt : frames.motion[index];
 }
 
-// The frames' rate [Hz]: one over the mean interval between consecutive frames, of the intervals
-// within half and twice the median one (a dropped frame, a stop in the recording, a repeated time
-// left out); nullopt with fewer than two frames or no interval above zero. Not the median alone:
-// a stream whose intervals alternate (3:2 pulldown, a driver that publishes in bursts) has its
-// median at one of the two, and which one can flip with a single frame: intervals of 1/30 s and
-// 1/20 s in turns three to two are 25 Hz, not 30.
-std::optional<double> frame_rate_hz(const std::vector<double>& times) {
+}  // namespace
+
+std::optional<double> frames_rate_hz(const std::vector<double>& times) {
   std::vector<double> intervals;
   intervals.reserve(times.size());
   for (std::size_t i = 1; i < times.size(); ++i) {
     if (times[i] > times[i - 1]) intervals.push_back(times[i] - times[i - 1]);
   }
   if (intervals.empty()) return std::nullopt;
+  // Not the median alone: a stream whose intervals alternate (3:2 pulldown, a driver that
+  // publishes in bursts) has its median at one of the two, and which one can flip with a single
+  // frame: intervals of 1/30 s and 1/20 s in turns three to two are 25 Hz, not 30.
   const double typical_s = median(intervals);
   double sum_s = 0.0;
   std::size_t count = 0;
@@ -121,12 +122,10 @@ std::optional<double> frame_rate_hz(const std::vector<double>& times) {
   return static_cast<double>(count) / sum_s;
 }
 
-}  // namespace
-
 CameraCalibrationOptions options_at_frame_rate(const CameraCalibrationOptions& options,
                                                const std::vector<double>& times) {
   CameraCalibrationOptions at_rate = options;
-  const std::optional<double> rate = frame_rate_hz(times);
+  const std::optional<double> rate = frames_rate_hz(times);
   if (options.filter_frame_rate_hz > 0.0 && rate &&
       std::abs(std::log(*rate / options.filter_frame_rate_hz)) >
           std::log1p(options.filter_frame_rate_tolerance)) {
@@ -1042,6 +1041,39 @@ std::size_t camera_frames_in_flight() {
   return 2 * std::clamp<std::size_t>(std::thread::hardware_concurrency(), 2, 32);
 }
 
+namespace {
+
+// How many frames apart the frames estimated are (CameraCalibrationOptions::max_frame_rate_hz): the
+// frames' rate over the most asked for, rounded; 1 when no most is asked for or the rate is
+// unknown.
+std::size_t frames_apart_for_rate(const std::vector<double>& times, double max_frame_rate_hz) {
+  const std::optional<double> rate = frames_rate_hz(times);
+  if (max_frame_rate_hz <= 0.0 || !rate) return 1;
+  // At most a billion: a rate from intervals of nanoseconds stays a count.
+  return static_cast<std::size_t>(
+      std::max(1L, std::lround(std::min(*rate / max_frame_rate_hz, 1e9))));
+}
+
+// Every `apart`-th frame of `frames`, from the first, as a source of its own; the frames keep
+// their names (and a nameless one its index in `frames`). `frames` must outlive it.
+CameraFrameSource every_nth_frame(const CameraFrameSource& frames, std::size_t apart) {
+  auto indices = std::make_shared<std::vector<std::size_t>>();
+  CameraFrameSource kept;
+  for (std::size_t i = 0; i < frames.times.size(); i += apart) {
+    indices->push_back(i);
+    kept.times.push_back(frames.times[i]);
+    if (!frames.motion.empty()) kept.motion.push_back(frames.motion[i]);
+  }
+  kept.read = [&frames, indices](std::size_t index) { return frames.read((*indices)[index]); };
+  kept.name = [&frames, indices](std::size_t index) {
+    return frame_name(frames, (*indices)[index]);
+  };
+  kept.lossy = frames.lossy;
+  return kept;
+}
+
+}  // namespace
+
 CalibrationResult calibrate_camera(const CameraFrameSource& frames,
                                    const core::CameraIntrinsics& intrinsics,
                                    const CameraCalibrationOptions& options) {
@@ -1049,7 +1081,17 @@ CalibrationResult calibrate_camera(const CameraFrameSource& frames,
   intrinsics.Check();
   check_source(frames);
   const auto started = std::chrono::steady_clock::now();
-  CalibrationResult result = calibrate(frames, intrinsics, options);
+  const std::size_t apart = frames_apart_for_rate(frames.times, options.max_frame_rate_hz);
+  CalibrationResult result;
+  if (apart > 1) {
+    result = calibrate(every_nth_frame(frames, apart), intrinsics, options);
+    // The frames looked at (support.frames) are the kept ones.
+    result.support["frames_skipped_for_rate"] = static_cast<std::int64_t>(
+        frames.times.size() - static_cast<std::size_t>(result.support.at("frames")));
+    result.diagnostics["frames_apart"] = static_cast<double>(apart);
+  } else {
+    result = calibrate(frames, intrinsics, options);
+  }
   result.seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return result;

@@ -115,6 +115,13 @@ struct CameraCalibrationOptions {
   // for the run, up to this many bytes of images [B], and let go once the run has passed them:
   // decoding is a sixth of the motion estimator's time. 0: none kept (the run decodes them again).
   std::size_t first_look_kept_bytes = std::size_t{256} << 20;
+  // Estimate only every n-th frame, n the frames' rate over this, rounded (a 30 Hz video at 10:
+  // every 3rd frame; 12 Hz: every frame) [Hz]; the others are neither decoded nor estimated, and
+  // the run goes on at the kept frames' rate (options_at_frame_rate). The paper's camera ran at
+  // 10 Hz; a faster one calibrates in proportion to its frames: on a simulated 30 Hz minute
+  // (mixed 304, geometric) every frame gave the result of every 3rd within 0.002 deg at three
+  // times the time (docs/methods.md, camera §3). 0: every frame.
+  double max_frame_rate_hz = 0.0;
   // The motion estimator's frames are this many frames apart (given at filter_frame_rate_hz, and
   // scaled with the frames' rate as the counts below are): it pairs each frame with the one
   // motion_frame_step frames before it. 1 at 10 Hz: pairs 0.1 s apart, KITTI's camera's. At 30 Hz
@@ -229,6 +236,11 @@ struct CameraFrameSource {
 // speed lost that a sequential decoder could feed).
 // A source that decodes in order (a video) keeps about twice that many behind its decoder.
 std::size_t camera_frames_in_flight();
+
+// The frames' rate [Hz]: one over the mean interval between consecutive frames at `times` [s], of
+// the intervals within half and twice the median one (a dropped frame, a stop in the recording, a
+// repeated time left out); nullopt with no interval above zero.
+std::optional<double> frames_rate_hz(const std::vector<double>& times);
 
 // `options` for frames at `times` (CameraCalibrationOptions::filter_frame_rate_hz): the counts of
 // frames given at that rate (the filter's window_frames and min_road_plane_frames,

@@ -229,6 +229,52 @@ TEST(CalibrateCamera, WindowsHoldAsManySecondsAtAnyFrameRate) {
   EXPECT_THROW(calibrate_camera(street_drive(36), camera, bad), std::invalid_argument);
 }
 
+// max_frame_rate_hz: of a 30 Hz drive at 10 Hz every 3rd frame is decoded and estimated, and the
+// run goes on at 10 Hz (windows of the counts as given); a frame keeps its own name in errors.
+TEST(CalibrateCamera, AFastCameraCanBeTakenAtALowerFrameRate) {
+  const core::CameraIntrinsics camera = core::camera_preset("kitti");
+  CameraFrameSource frames = street_drive(108, 0.0, 0.0, 30.0);
+  std::atomic<int> reads = 0;
+  count_reads(frames, reads);
+  CameraCalibrationOptions options = short_windows();
+  options.max_frame_rate_hz = 10.0;
+  options.refuse_standing = false;  // their own reads are not the run's
+  options.facing = CameraFacing::kAhead;
+  std::atomic<std::size_t> last_total = 0;
+  options.progress = [&](std::size_t, std::size_t total) { last_total = total; };
+  const CalibrationResult result = calibrate_camera(frames, camera, options);
+  ASSERT_TRUE(result.ok()) << result.reason;
+  EXPECT_EQ(reads.load(), 36);
+  EXPECT_EQ(last_total.load(), 36U);
+  EXPECT_EQ(result.support.at("frames"), 36);
+  EXPECT_EQ(result.support.at("frames_skipped_for_rate"), 72);
+  EXPECT_EQ(result.diagnostics.at("frames_apart"), 3.0);
+  EXPECT_FALSE(result.diagnostics.contains("window_frames"));  // 12 frames at 10 Hz
+  EXPECT_EQ(result.support.at("windows"), 3);
+  EXPECT_THAT(*result.roll, AngleNearDeg(kMounting.roll, 0.1));
+  EXPECT_THAT(*result.pitch, AngleNearDeg(kMounting.pitch, 0.1));
+  EXPECT_THAT(*result.yaw, AngleNearDeg(kMounting.yaw, 0.1));
+  ASSERT_FALSE(result.series.empty());
+  EXPECT_DOUBLE_EQ(result.series.front().time[1], frames.times[3]);
+  // Rates at or below the most take every frame.
+  options.max_frame_rate_hz = 30.0;
+  EXPECT_FALSE(
+      calibrate_camera(street_drive(36), camera, options).diagnostics.contains("frames_apart"));
+  // A frame that cannot be read is named by its place in the source (frame 30, the 11th kept).
+  frames.read = [draw = frames.read](std::size_t index) {
+    return index == 30 ? cv::Mat() : draw(index);
+  };
+  options.max_frame_rate_hz = 10.0;
+  try {
+    calibrate_camera(frames, camera, options);
+    ADD_FAILURE() << "an unreadable frame passed";
+  } catch (const InputError& error) {
+    EXPECT_THAT(error.what(), ::testing::HasSubstr("frame 30"));
+  }
+  options.max_frame_rate_hz = -1.0;
+  EXPECT_THROW(calibrate_camera(frames, camera, options), std::invalid_argument);
+}
+
 // A car standing at a light passes the window's steadiness test without driving: one view
 // repeated, the smallest spread and so the largest weight of all. The images show it stood, and
 // the window is refused and counted (before, a car that never moved calibrated `ok`). Without
