@@ -2,7 +2,6 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include <cmath>
 #include <filesystem>
 #include <optional>
 #include <stdexcept>
@@ -10,6 +9,7 @@
 #include "apps/x2car/bag_inputs.hpp"
 #include "apps/x2car/calibration_output.hpp"
 #include "apps/x2car/camera_inputs.hpp"
+#include "apps/x2car/command_output.hpp"
 #include "apps/x2car/ins_inputs.hpp"
 #include "apps/x2car/number_checks.hpp"
 #include "apps/x2car/progress_bar.hpp"
@@ -234,15 +234,17 @@ int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
   if (!ins_log.empty()) {
     frames.motion = camera_motion_from_log(ins_log, frames, arguments.bag.ins_topic);
   }
-  if (!arguments.max_frame_rate_hz) {
-    // Every frame of a fast camera costs its time; say how to take fewer.
+  if (!arguments.max_frame_rate_hz && !command_output_captured()) {
+    // Every frame of a fast camera costs its time; say how to take fewer (not inside `calibrate
+    // all`, which has no such option).
     const std::optional<double> rate = camera::frames_rate_hz(frames.times);
     const double paper_rate_hz = options.filter_frame_rate_hz;
     if (rate && paper_rate_hz > 0.0 && *rate > 1.5 * paper_rate_hz) {
       spdlog::info(
           "the frames run at {:.3g} Hz and each is estimated; --max-frame-rate {:g} (the paper's "
-          "camera's rate) takes one in {}, in about that share of the time",
-          *rate, paper_rate_hz, std::lround(*rate / paper_rate_hz));
+          "camera's rate) keeps one frame in {} and runs about {} times as fast",
+          *rate, paper_rate_hz, camera::frames_apart_for_rate(frames.times, paper_rate_hz),
+          camera::frames_apart_for_rate(frames.times, paper_rate_hz));
     }
   }
   ProgressBar progress("frames", spdlog::should_log(spdlog::level::info));
@@ -338,9 +340,9 @@ RunCommand setup_calibrate_camera_command(CLI::App& command) {
                                 defaults.filter_frame_rate_hz));
   command
       .add_option("--max-frame-rate", arguments->max_frame_rate_hz,
-                  "Estimate about this many frames a second at most: every n-th frame, n the "
-                  "frames' rate over this, rounded (a 30 Hz video at 10: every 3rd; the paper's "
-                  "camera ran at 10 Hz) [Hz]; default: every frame")
+                  "Estimate at most this many frames a second (10 % over it allowed): every "
+                  "n-th frame (a 30 Hz video at 10: every 3rd; the paper's camera ran at 10 Hz), "
+                  "and --window-frames counts the frames kept [Hz]; default: every frame")
       ->check(positive_number())
       ->type_name("HZ");
   command

@@ -679,8 +679,8 @@ TEST(CalibrateCamera, TheWindowHoldsAsManySecondsUnlessItsFramesAreGiven) {
   EXPECT_EQ(by_default.exit_code, 1) << by_default.output;
   EXPECT_THAT(by_default.output, HasSubstr("need 200"));
   EXPECT_THAT(by_default.output, HasSubstr("the frames run at 20 Hz"));
-  EXPECT_THAT(by_default.output, HasSubstr("--max-frame-rate 10 (the paper's camera's rate) takes "
-                                           "one in 2"));
+  EXPECT_THAT(by_default.output, HasSubstr("--max-frame-rate 10 (the paper's camera's rate) keeps "
+                                           "one frame in 2 and runs about 2 times as fast"));
   // At most 10 Hz: every other frame, 12 at 10 Hz, and the paper's window of 100 frames.
   const CliRun fewer =
       run_x2car("calibrate camera --input " + folder.string() + " --max-frame-rate 10");
@@ -690,6 +690,11 @@ TEST(CalibrateCamera, TheWindowHoldsAsManySecondsUnlessItsFramesAreGiven) {
   EXPECT_EQ(
       run_x2car("calibrate camera --input " + folder.string() + " --max-frame-rate 0").exit_code,
       2);
+  // Frames kept 0.35 s apart are too far for the motion estimator's pairs (0.25 s).
+  const CliRun too_few = run_x2car("calibrate camera --input " + folder.string() +
+                                   " --estimator motion --max-frame-rate 3");
+  EXPECT_EQ(too_few.exit_code, 2) << too_few.output;
+  EXPECT_THAT(too_few.output, HasSubstr("max_pair_gap_s"));
   const auto json = folder / "camera_result.json";
   const CliRun given = run_x2car("calibrate camera --input " + folder.string() +
                                  " --window-frames 12 --out " + json.string());
@@ -709,6 +714,7 @@ TEST(CalibrateCamera, RecoversTheMountingFromAFolderOfImages) {
                 (folder / "camera.yaml").string() + " --urdf " + (folder / "camera.urdf").string());
   ASSERT_EQ(calibrate.exit_code, 0) << calibrate.output;
   EXPECT_THAT(calibrate.output, HasSubstr("found 24 images"));
+  EXPECT_THAT(calibrate.output, Not(HasSubstr("--max-frame-rate")));  // 10 Hz
   const std::string result = io::read_text_file(json);
   constexpr double kDegPerRad = 180.0 / M_PI;
   EXPECT_NEAR(number_after(result, "", "\"roll_deg\""), 0.02 * kDegPerRad, 0.1) << result;

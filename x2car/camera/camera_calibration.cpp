@@ -312,8 +312,8 @@ std::size_t sequence_reach(const CameraCalibrationOptions& options) {
 }
 
 // The motion estimate of frame `index` from it and the frames before (motion_frame_step apart,
-// read through the cache: frames are estimated in parallel, in no order). No two frames between
-// them more than max_pair_gap_s apart.
+// read through the cache: frames are estimated in parallel, in no order). No two of the frames
+// tracked between more than max_pair_gap_s apart: frames dropped between them stretch the step.
 FrameEstimate estimate_sequence(const CameraFrameSource& frames, FrameReader& reader,
                                 const core::CameraIntrinsics& intrinsics,
                                 const CameraCalibrationOptions& options,
@@ -322,12 +322,12 @@ FrameEstimate estimate_sequence(const CameraFrameSource& frames, FrameReader& re
   const std::size_t reach = sequence_reach(options);
   if (index < reach) return rejected_frame(FrameRejection::kNoPreviousFrame);
   const std::size_t first = index - reach;
-  for (std::size_t i = first + 1; i <= index; ++i) {
-    if (frames.times[i] - frames.times[i - 1] > options.max_pair_gap_s) {
+  const auto step = static_cast<std::size_t>(std::max(options.motion_frame_step, 1));
+  for (std::size_t i = first + step; i <= index; i += step) {
+    if (frames.times[i] - frames.times[i - step] > options.max_pair_gap_s) {
       return rejected_frame(FrameRejection::kNoPreviousFrame);
     }
   }
-  const auto step = static_cast<std::size_t>(std::max(options.motion_frame_step, 1));
   std::vector<cv::Mat> sequence;
   sequence.reserve(static_cast<std::size_t>(options.motion.tracked_frames));
   try {
@@ -1043,17 +1043,6 @@ std::size_t camera_frames_in_flight() {
 
 namespace {
 
-// How many frames apart the frames estimated are (CameraCalibrationOptions::max_frame_rate_hz): the
-// frames' rate over the most asked for, rounded; 1 when no most is asked for or the rate is
-// unknown.
-std::size_t frames_apart_for_rate(const std::vector<double>& times, double max_frame_rate_hz) {
-  const std::optional<double> rate = frames_rate_hz(times);
-  if (max_frame_rate_hz <= 0.0 || !rate) return 1;
-  // At most a billion: a rate from intervals of nanoseconds stays a count.
-  return static_cast<std::size_t>(
-      std::max(1L, std::lround(std::min(*rate / max_frame_rate_hz, 1e9))));
-}
-
 // Every `apart`-th frame of `frames`, from the first, as a source of its own; the frames keep
 // their names (and a nameless one its index in `frames`). `frames` must outlive it.
 CameraFrameSource every_nth_frame(const CameraFrameSource& frames, std::size_t apart) {
@@ -1072,7 +1061,41 @@ CameraFrameSource every_nth_frame(const CameraFrameSource& frames, std::size_t a
   return kept;
 }
 
+// The frames kept `apart` of a source at `rate_hz` must still be close enough for the pairs the
+// run makes of them: std::invalid_argument otherwise.
+void check_kept_frames_pair(const CameraCalibrationOptions& options, double rate_hz,
+                            std::size_t apart) {
+  const double kept_interval_s = static_cast<double>(apart) / rate_hz;
+  const auto refuse = [&](const char* field, double max_gap_s, const char* pairs) {
+    if (kept_interval_s <= max_gap_s) return;
+    reject_argument(
+        "CameraCalibrationOptions: max_frame_rate_hz {:g} keeps one frame in {} of {:.3g} Hz, "
+        "{:.3g} s apart, and {} frames at most {:g} s apart ({}): ask for a higher rate",
+        options.max_frame_rate_hz, apart, rate_hz, kept_interval_s, pairs, max_gap_s, field);
+  };
+  if (!options.estimator && options.method != CameraMethod::kGeometric) {
+    refuse("max_pair_gap_s", options.max_pair_gap_s, "the motion estimator pairs");
+  }
+  if (options.facing == CameraFacing::kFromMotion) {
+    refuse("facing_pair_max_gap_s", options.facing_pair_max_gap_s, "the facing check pairs");
+  }
+  if (options.refuse_standing) {
+    refuse("standing_check.pair_max_gap_s", options.standing_check.pair_max_gap_s,
+           "the standing check pairs");
+  }
+}
+
 }  // namespace
+
+std::size_t frames_apart_for_rate(const std::vector<double>& times, double max_frame_rate_hz) {
+  const std::optional<double> rate = frames_rate_hz(times);
+  if (max_frame_rate_hz <= 0.0 || !rate) return 1;
+  // A most, 10 % over it allowed: a 30.3 Hz or a 33 Hz camera at 10 keeps every 3rd frame, not
+  // every 4th. At most a billion: a rate from intervals of nanoseconds stays a count.
+  constexpr double kSlack = 0.1;
+  const double ratio = std::min(*rate / (max_frame_rate_hz * (1.0 + kSlack)), 1e9);
+  return static_cast<std::size_t>(std::max(1.0, std::ceil(ratio)));
+}
 
 CalibrationResult calibrate_camera(const CameraFrameSource& frames,
                                    const core::CameraIntrinsics& intrinsics,
@@ -1082,6 +1105,7 @@ CalibrationResult calibrate_camera(const CameraFrameSource& frames,
   check_source(frames);
   const auto started = std::chrono::steady_clock::now();
   const std::size_t apart = frames_apart_for_rate(frames.times, options.max_frame_rate_hz);
+  if (apart > 1) check_kept_frames_pair(options, *frames_rate_hz(frames.times), apart);
   CalibrationResult result;
   if (apart > 1) {
     result = calibrate(every_nth_frame(frames, apart), intrinsics, options);

@@ -115,12 +115,16 @@ struct CameraCalibrationOptions {
   // for the run, up to this many bytes of images [B], and let go once the run has passed them:
   // decoding is a sixth of the motion estimator's time. 0: none kept (the run decodes them again).
   std::size_t first_look_kept_bytes = std::size_t{256} << 20;
-  // Estimate only every n-th frame, n the frames' rate over this, rounded (a 30 Hz video at 10:
-  // every 3rd frame; 12 Hz: every frame) [Hz]; the others are neither decoded nor estimated, and
-  // the run goes on at the kept frames' rate (options_at_frame_rate). The paper's camera ran at
-  // 10 Hz; a faster one calibrates in proportion to its frames: on a simulated 30 Hz minute
-  // (mixed 304, geometric) every frame gave the result of every 3rd within 0.002 deg at three
-  // times the time (docs/methods.md, camera §3). 0: every frame.
+  // Estimate at most this many frames a second, 10 % over it allowed: every n-th frame
+  // (frames_apart_for_rate: a 30 Hz video at 10, every 3rd; 12 Hz, every 2nd) [Hz]. The others
+  // are not estimated, nor read (a video still decodes each in turn), and the run goes on at the
+  // kept frames' rate (options_at_frame_rate; a window_frames_at_any_rate counts kept frames).
+  // The paper's camera ran at 10 Hz; a faster one calibrates in proportion to its frames: on a
+  // simulated 30 Hz minute (mixed 304, geometric) every frame gave the result of every 3rd within
+  // 0.003 deg at three times the time (docs/methods.md, camera §3). Kept frames must stay close
+  // enough for the run's pairs (max_pair_gap_s for motion and auto, facing_pair_max_gap_s,
+  // standing_check.pair_max_gap_s): calibrate_camera refuses a rate that parts them further.
+  // 0: every frame.
   double max_frame_rate_hz = 0.0;
   // The motion estimator's frames are this many frames apart (given at filter_frame_rate_hz, and
   // scaled with the frames' rate as the counts below are): it pairs each frame with the one
@@ -129,9 +133,10 @@ struct CameraCalibrationOptions {
   // comes, a third of it: on a simulated 30 Hz mixed drive 16 % of the pairs were
   // too_little_motion where its 10 Hz twin had 7.5 %. Scaled to 3 there, a pair spans 0.1 s again.
   int motion_frame_step = 1;
-  // The motion estimator pairs a frame with one before it when no two frames between them are
-  // more than this far apart [s]; otherwise the frame is no_previous_frame (0.25 s: down to 4 Hz
-  // video; past it the road ahead moves out of the lower image between frames at city speeds).
+  // The motion estimator pairs a frame with one before it when they are at most this far apart
+  // [s] (frames dropped between them stretch the step); otherwise the frame is no_previous_frame
+  // (0.25 s: down to 4 Hz video; past it the road ahead moves out of the lower image between
+  // frames at city speeds).
   double max_pair_gap_s = 0.25;
   // The paper's window and threshold, the motion gate, the averaging and the standard errors.
   // Its frame counts (window_frames, min_road_plane_frames) and noisy_estimator_block_frames below
@@ -241,6 +246,11 @@ std::size_t camera_frames_in_flight();
 // the intervals within half and twice the median one (a dropped frame, a stop in the recording, a
 // repeated time left out); nullopt with no interval above zero.
 std::optional<double> frames_rate_hz(const std::vector<double>& times);
+
+// How many frames apart calibrate_camera estimates the frames at `times` [s] for
+// CameraCalibrationOptions::max_frame_rate_hz: the frames' rate over it (10 % over it allowed),
+// rounded up (30 Hz at 10: 3; 33 Hz: 3; 12 Hz: 2); 1 when it is 0 or the rate is unknown.
+std::size_t frames_apart_for_rate(const std::vector<double>& times, double max_frame_rate_hz);
 
 // `options` for frames at `times` (CameraCalibrationOptions::filter_frame_rate_hz): the counts of
 // frames given at that rate (the filter's window_frames and min_road_plane_frames,
