@@ -179,6 +179,8 @@ int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
     camera::VideoFrameOptions video_options;
     if (!arguments.timestamps_path.empty()) video_options.timestamps = arguments.timestamps_path;
     video_options.frame_rate_hz = arguments.frame_rate_hz;
+    // The decoder keeps the frames the calibrator will read.
+    video_options.max_frame_rate_hz = arguments.max_frame_rate_hz.value_or(0.0);
     camera::VideoFrames video =
         camera::camera_frames_from_video(arguments.input_path, video_options);
     spdlog::info("found {} frames in {} ({:.1f} s, {:.3g} frames/s; times from {})",

@@ -34,6 +34,7 @@ void VideoFrameOptions::Check() const {
   if (cached_frames != 0) {
     check.at_least("cached_frames", static_cast<double>(cached_frames), 2.0);
   }
+  check.non_negative("max_frame_rate_hz", max_frame_rate_hz);
 }
 
 bool is_video_file(const std::filesystem::path& path) {
@@ -64,49 +65,63 @@ cv::VideoCapture open_video(const std::filesystem::path& path) {
   return capture;
 }
 
-// The one decoder of a source, shared by its copies and its reader threads.
+// The one decoder of a source, shared by its copies and its reader threads. It keeps the last
+// `cached` frames it decoded of those a reader will ask for (every `stride`-th, the calibrator's
+// frames_apart_for_rate, and any frame asked for); the others it decodes without converting them
+// and lets go, so that the cache spans as many of the frames read at any stride.
 class SequentialDecoder {
  public:
-  SequentialDecoder(std::filesystem::path path, std::size_t frame_count, std::size_t cached)
-      : path_(std::move(path)), frame_count_(frame_count), cached_(cached) {}
+  SequentialDecoder(std::filesystem::path path, std::size_t frame_count, std::size_t cached,
+                    std::size_t stride)
+      : path_(std::move(path)), frame_count_(frame_count), cached_(cached), stride_(stride) {}
 
   cv::Mat frame(std::size_t index) {
     const std::lock_guard lock(mutex_);
     if (index >= frame_count_) {
       throw InputError(path_.string(), fmt::format("has no frame {}", index));
     }
-    if (index < first_cached()) reopen();  // behind the cache: start again
-    while (next_ <= index) decode_next();
-    return cache_[index - first_cached()].clone();
+    if (index < next_) {
+      for (auto kept = cache_.rbegin(); kept != cache_.rend(); ++kept) {
+        if (kept->first == index) return kept->second.clone();
+      }
+      reopen();  // behind the cache, or a frame let go: start again
+    }
+    while (next_ < index) decode_next(false);
+    decode_next(true);
+    return cache_.back().second.clone();
   }
 
  private:
-  std::size_t first_cached() const { return next_ - cache_.size(); }
-
   void reopen() {
     capture_ = open_video(path_);
     cache_.clear();
     next_ = 0;
   }
 
-  void decode_next() {
+  // Decodes frame next_; keeps it when `wanted` or on the stride.
+  void decode_next(bool wanted) {
     if (!capture_.isOpened()) capture_ = open_video(path_);
-    cv::Mat image;
-    if (!capture_.read(image) || image.empty()) {
+    if (wanted || next_ % stride_ == 0) {
+      cv::Mat image;
+      if (!capture_.read(image) || image.empty()) {
+        throw InputError(path_.string(), fmt::format("frame {} cannot be decoded", next_));
+      }
+      cache_.emplace_back(next_, grey_8bit(image).clone());
+      if (cache_.size() > cached_) cache_.pop_front();
+    } else if (!capture_.grab()) {
       throw InputError(path_.string(), fmt::format("frame {} cannot be decoded", next_));
     }
-    cache_.push_back(grey_8bit(image).clone());
-    if (cache_.size() > cached_) cache_.pop_front();
     ++next_;
   }
 
   std::filesystem::path path_;
   std::size_t frame_count_;
   std::size_t cached_;
+  std::size_t stride_;
   std::mutex mutex_;
   cv::VideoCapture capture_;
-  std::deque<cv::Mat> cache_;  // frames next_ - size .. next_ - 1
-  std::size_t next_ = 0;       // the index the decoder reads next
+  std::deque<std::pair<std::size_t, cv::Mat>> cache_;  // (index, frame), in decoding order
+  std::size_t next_ = 0;                               // the index the decoder reads next
 };
 
 // What one pass of decoding found.
@@ -253,7 +268,8 @@ VideoFrames camera_frames_from_video(const std::filesystem::path& path,
   const std::size_t cached = options.cached_frames != 0
                                  ? options.cached_frames
                                  : std::max<std::size_t>(64, 2 * camera_frames_in_flight() + 16);
-  auto decoder = std::make_shared<SequentialDecoder>(path, scan.frames(), cached);
+  auto decoder = std::make_shared<SequentialDecoder>(
+      path, scan.frames(), cached, frames_apart_for_rate(frames.times, options.max_frame_rate_hz));
   frames.read = [decoder](std::size_t index) { return decoder->frame(index); };
   // Cameras' videos are coded with loss (H.264, H.265, MJPEG); a lossless one (FFV1) is taken as
   // lossy too, which costs it little (CameraCalibrationOptions::lossy_tracking_window_px).

@@ -3,9 +3,10 @@
 //
 // A video decodes in order, while the calibrator asks for frames from several threads, slightly
 // out of order, and the motion estimator asks for each frame's predecessor too. So one decoder,
-// behind a lock, runs ahead and keeps the last `cached_frames` frames; a frame asked for after it
-// left the cache is found again by reopening the file and decoding up to it (slow, but it happens
-// only when the cache is smaller than the calibrator's frames in flight).
+// behind a lock, runs ahead and keeps the last `cached_frames` frames (of those read:
+// max_frame_rate_hz); a frame asked for after it left the cache is found again by reopening the
+// file and decoding up to it (slow, but it happens only when the cache is smaller than the
+// calibrator's frames in flight).
 //
 // Times: from a timestamps file (one per frame, as an image folder's timestamps.txt) when given,
 // else index / frame_rate_hz when given, else each frame's presentation time in the container
@@ -35,6 +36,10 @@ struct VideoFrameOptions {
   // that no reader falls behind the cache on a machine with many cores (each miss decodes the
   // video again from its start). Else at least 2.
   std::size_t cached_frames = 0;
+  // The calibrator's CameraCalibrationOptions::max_frame_rate_hz, when it reads every n-th frame
+  // only (frames_apart_for_rate): the cache then keeps those alone (as many of them), and the
+  // decoder passes the others without converting them [Hz]. 0: every frame is read.
+  double max_frame_rate_hz = 0.0;
 
   // Throws std::invalid_argument naming the offending field.
   void Check() const;

@@ -86,6 +86,23 @@ TEST(VideoFrames, TimesFromTheFrameRateAndFramesInAnyOrder) {
   EXPECT_TRUE(frames.lossy);  // a camera's video is coded with loss
 }
 
+// Read at most 10 Hz of a 30 Hz video (every 3rd frame), the decoder keeps those alone: a cache
+// of 2 holds the last two read, 6 frames back, and every frame, on the stride or not, forward or
+// back, is the frame the plain source gives.
+TEST(VideoFrames, KeepsTheFramesTheCalibratorReadsAtAMostRate) {
+  const fs::path video = write_street_video(temp_path("street_30_hz.avi"), 16, 30.0);
+  const CameraFrameSource every = camera_frames_from_video(video).source;
+  VideoFrameOptions strided;
+  strided.cached_frames = 2;
+  strided.max_frame_rate_hz = 10.0;
+  const CameraFrameSource kept = camera_frames_from_video(video, strided).source;
+  for (const std::size_t index : {0U, 3U, 6U, 9U, 12U, 9U, 6U, 7U, 15U, 13U, 1U}) {
+    EXPECT_EQ(cv::norm(kept.read(index), every.read(index), cv::NORM_INF), 0.0) << index;
+  }
+  strided.max_frame_rate_hz = -1.0;
+  EXPECT_THROW(camera_frames_from_video(video, strided), std::invalid_argument);
+}
+
 TEST(VideoFrames, CalibratesLikeTheImages) {
   const fs::path video = write_street_video(temp_path("drive.avi"), 30);
   CameraCalibrationOptions options;
