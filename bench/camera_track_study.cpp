@@ -1,8 +1,9 @@
 // The motion estimator's tracks against the simulated world (docs/methods.md, camera §1a): for a
 // drive that `x2car simulate --sensors ins,camera` wrote with the default camera, each corner the
 // tracker follows between two frames is also cast as a ray into the world in the first frame's pose
-// and projected into the second's: its true position. Printed, over the straight frames at 3 m/s
-// or more:
+// and projected into the second's: its true position. The two are consecutive frames, the pair the
+// calibrator makes at the default camera's 10 Hz (at other rates it pairs frames 0.1 s apart,
+// CameraCalibrationOptions::motion_frame_step). Printed, over the straight frames at 3 m/s or more:
 //   - the tracks' error (median |error|, median along the true flow, share over 1 px) by what the
 //     corner lies on (asphalt, paint, curb, sidewalk, grass, ...) and by side (left or right of
 //     the principal point);
