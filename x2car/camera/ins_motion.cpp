@@ -91,6 +91,7 @@ std::vector<std::uint8_t> reversing_records(std::span<const io::InsRecord> recor
   std::vector<double> courses(records.size(), 0.0);
   std::vector<double> offsets(records.size(), 0.0);
   std::vector<std::uint8_t> moving(records.size(), 0);
+  std::vector<double> moving_offsets;
   std::vector<double> doubled_offsets;
   for (std::size_t i = 0; i < records.size(); ++i) {
     const Eigen::Vector2d velocity = velocity_at(records, i, velocities);
@@ -98,6 +99,7 @@ std::vector<std::uint8_t> reversing_records(std::span<const io::InsRecord> recor
     moving[i] = 1;
     courses[i] = std::atan2(velocity.y(), velocity.x());
     offsets[i] = angle_difference(records[i].attitude.yaw, courses[i]);
+    moving_offsets.push_back(offsets[i]);
     doubled_offsets.push_back(2.0 * offsets[i]);
   }
   std::vector<std::uint8_t> reversing(records.size(), 0);
@@ -106,12 +108,7 @@ std::vector<std::uint8_t> reversing_records(std::span<const io::InsRecord> recor
       !heading_turns_with_course(records, courses, moving, options)) {
     return reversing;
   }
-  const double axis = 0.5 * circular_mean(doubled_offsets);
-  std::size_t along_axis = 0;
-  for (std::size_t i = 0; i < records.size(); ++i) {
-    if (moving[i] && std::abs(angle_difference(offsets[i], axis)) <= kPi / 2.0) ++along_axis;
-  }
-  const double ahead = 2 * along_axis >= doubled_offsets.size() ? axis : wrap_angle(axis + kPi);
+  const double ahead = majority_axis_end(moving_offsets);
   for (std::size_t i = 0; i < records.size(); ++i) {
     reversing[i] = moving[i] && std::abs(angle_difference(offsets[i], ahead)) > kPi / 2.0;
   }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 namespace x2car {
 
@@ -130,6 +131,17 @@ double circular_mean(std::span<const double> angles, std::span<const double> wei
 double mean_resultant_length(std::span<const double> angles, std::span<const double> weights) {
   const Eigen::Vector3d sums = resultant(angles, weights);
   return std::hypot(sums.x(), sums.y()) / sums.z();
+}
+
+double majority_axis_end(std::span<const double> angles) {
+  std::vector<double> doubled;
+  doubled.reserve(angles.size());
+  for (const double angle : angles) doubled.push_back(2.0 * angle);
+  const double axis = 0.5 * circular_mean(doubled);
+  const auto along_axis = std::ranges::count_if(angles, [axis](double angle) {
+    return std::abs(angle_difference(angle, axis)) <= kPi / 2.0;
+  });
+  return 2 * static_cast<std::size_t>(along_axis) >= angles.size() ? axis : wrap_angle(axis + kPi);
 }
 
 double heading_enu_from_azimuth(double azimuth) { return wrap_angle(kPi / 2.0 - azimuth); }

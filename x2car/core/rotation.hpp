@@ -71,6 +71,13 @@ double circular_mean(std::span<const double> angles, std::span<const double> wei
 // Mean resultant length in [0, 1]: 1 when all angles agree, near 0 when they spread around.
 double mean_resultant_length(std::span<const double> angles, std::span<const double> weights = {});
 
+// The end that most angles [rad] lie within 90 deg of, of the axis they gather round (the circular
+// mean of the doubled angles, halved), in (-pi, pi]: of the offsets between a car's course and a
+// device's heading, the one it has driving ahead when most of a drive goes forward (backing up
+// falls at the axis' other end, whatever share it has). Throws std::invalid_argument as
+// circular_mean does for the doubled angles (none, or an axis that cancels out).
+double majority_axis_end(std::span<const double> angles);
+
 // ---- conversions between the reported azimuth and the ENU heading -------------------------
 
 // Azimuth is clockwise from north (NovAtel, OxTS); ENU heading is counter-clockwise from east.

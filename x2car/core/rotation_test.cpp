@@ -200,6 +200,21 @@ TEST(CircularMean, RejectsInputWithoutAMean) {
   EXPECT_THROW(circular_mean(angles, negative), std::invalid_argument);
 }
 
+// The end of the angles' axis most of them lie on: ahead for a course mostly driven forward, with
+// some backing up at the other end, at any offset (a device mounted backwards: about pi).
+TEST(MajorityAxisEnd, IsTheEndMostAnglesLieOn) {
+  const std::vector<double> mostly_ahead = {0.02, -0.01, 0.0, kPi - 0.01, 0.01};
+  EXPECT_NEAR(majority_axis_end(mostly_ahead), 0.002, 1e-4);
+  std::vector<double> turned;
+  for (const double angle : mostly_ahead) turned.push_back(wrap_angle(angle + kPi));
+  EXPECT_NEAR(std::abs(majority_axis_end(turned)), kPi - 0.002, 1e-4);
+  const std::vector<double> sideways = {kPi / 2, kPi / 2 + 0.02, -kPi / 2, kPi / 2 - 0.02};
+  EXPECT_NEAR(majority_axis_end(sideways), kPi / 2, 1e-3);
+  EXPECT_THROW(majority_axis_end({}), std::invalid_argument);
+  const std::vector<double> across = {0.0, kPi / 2};  // doubled: opposite, no axis
+  EXPECT_THROW(majority_axis_end(across), std::invalid_argument);
+}
+
 TEST(Azimuth, ConvertsToEnuHeading) {
   EXPECT_NEAR(heading_enu_from_azimuth(0.0), kPi / 2, 1e-15);   // north
   EXPECT_NEAR(heading_enu_from_azimuth(kPi / 2), 0.0, 1e-15);   // east

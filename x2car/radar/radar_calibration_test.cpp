@@ -117,6 +117,30 @@ TEST(RadarCalibration, VelocitySignConvention) {
   EXPECT_NEAR(deg_from_rad(*result.yaw), 10.0, 0.1);
 }
 
+// The INS's mounting yaw is not known here and may be any: a box mounted backwards or sideways
+// turns its heading by 180 or +-90 deg against the car's travel. The car still drives ahead in most
+// of the drive, and the radar's yaw is the same (it was 180 deg off, `ok`, for every such
+// mounting, by either method: the speed's sign came from the INS's x axis).
+TEST(RadarCalibration, AnInsMountedBackwardsOrSidewaysGivesTheSameYaw) {
+  const RadarDrive& drive = urban_radar_drive(1);
+  const auto detections = radar_detections(drive, 10.0, sim::RadarOptions::conti_ars408(), 1);
+  for (const double ins_yaw_deg : {180.0, 90.0, -90.0}) {
+    std::vector<io::InsRecord> turned = drive.simulation.ins;
+    for (io::InsRecord& record : turned) {
+      record.attitude.yaw = wrap_angle(record.attitude.yaw + rad_from_deg(ins_yaw_deg));
+    }
+    for (const RadarMethod method : {RadarMethod::kVelocity, RadarMethod::kPosition}) {
+      SCOPED_TRACE(::testing::Message()
+                   << "INS yaw " << ins_yaw_deg << " deg, method " << to_string(method));
+      RadarCalibrationOptions options = with_lever_arm();
+      options.method = method;
+      const CalibrationResult result = calibrate_radar(detections, turned, options);
+      ASSERT_TRUE(result.ok()) << result.reason;
+      EXPECT_NEAR(deg_from_rad(angle_difference(*result.yaw, rad_from_deg(10.0))), 0.0, 0.3);
+    }
+  }
+}
+
 // Through the files, as the CLI reads them: a Delphi scan folder and novatel_enu.csv, each with
 // its own UTC time 0, aligned by radar_to_ins_time_offset.
 TEST(RadarCalibration, DelphiFilesAndNovatelLogRoundTrip) {

@@ -60,25 +60,57 @@ double yaw_rate_at(std::span<const io::InsRecord> ins, std::span<const double> y
   return sum_tt > 0.0 ? sum_ty / sum_tt : 0.0;
 }
 
+// Below this speed a record's course (its velocity's direction) is mostly noise [m/s]: a log
+// without velocities differences 2 cm of position noise over 20 ms into 1 m/s.
+constexpr double kCourseSpeedMps = 2.0;
+// The moving records' courses against the INS heading must gather round one axis this closely
+// (mean resultant length of the doubled offsets) to tell the way ahead; else the INS's x axis is.
+constexpr double kMinCourseAgreement = 0.5;
+
+// Where the car drives ahead, relative to the INS's x axis [rad]: the INS's mounting yaw, which
+// this calibrator does not know and which can be any (a box mounted backwards: 180 deg; sideways:
+// +-90). The moving records' offsets of course against heading lie on one axis, ahead and backing
+// up at its two ends; most of a drive goes forward (core::majority_axis_end). 0 (the INS's x axis)
+// when no record moves or the offsets do not gather round an axis.
+double ahead_of_ins(std::span<const io::InsRecord> ins,
+                    std::span<const Eigen::Vector3d> velocities) {
+  std::vector<double> offsets;
+  std::vector<double> doubled;
+  for (std::size_t i = 0; i < ins.size(); ++i) {
+    if (velocities[i].head<2>().norm() < kCourseSpeedMps) continue;
+    offsets.push_back(
+        angle_difference(std::atan2(velocities[i].y(), velocities[i].x()), ins[i].attitude.yaw));
+    doubled.push_back(2.0 * offsets.back());
+  }
+  if (offsets.empty() || mean_resultant_length(doubled) < kMinCourseAgreement) return 0.0;
+  return majority_axis_end(offsets);
+}
+
 // Speed from the velocity's norm (3-D: on a grade the car still moves along its x axis, in the
-// radar's plane); negative when it points backwards relative to the INS's x axis (the INS mounting
-// yaw is a few degrees, far from 90).
+// radar's plane); negative when it points more than 90 deg away from the way ahead (ahead_of_ins:
+// the INS's x axis turned by its mounting yaw, whatever that is).
 std::vector<CarMotion> car_motion_at_records(std::span<const io::InsRecord> ins,
                                              std::span<const double> yaw,
                                              double yaw_rate_window_s) {
   const bool device_velocity = has_device_velocity(ins);
-  std::vector<CarMotion> motion(ins.size());
+  std::vector<Eigen::Vector3d> velocities(ins.size());
   for (std::size_t i = 0; i < ins.size(); ++i) {
     const auto [before, after] = neighbours(i, ins.size());
     const double dt = ins[after].time - ins[before].time;
-    const Eigen::Vector3d velocity_enu =
+    velocities[i] =
         device_velocity
             ? ins[i].velocity_enu
             : Eigen::Vector3d((ins[after].position_enu - ins[before].position_enu) / dt);
+  }
+  const double ahead = ahead_of_ins(ins, velocities);
+  std::vector<CarMotion> motion(ins.size());
+  for (std::size_t i = 0; i < ins.size(); ++i) {
+    const Eigen::Vector3d& velocity_enu = velocities[i];
     const double speed = velocity_enu.norm();
+    const double course = std::atan2(velocity_enu.y(), velocity_enu.x());
     const bool backwards =
-        speed > 0.0 && std::abs(angle_difference(std::atan2(velocity_enu.y(), velocity_enu.x()),
-                                                 ins[i].attitude.yaw)) > kPi / 2.0;
+        speed > 0.0 && std::abs(angle_difference(angle_difference(course, ins[i].attitude.yaw),
+                                                 ahead)) > kPi / 2.0;
     motion[i].time = ins[i].time;
     motion[i].speed_mps = backwards ? -speed : speed;
     motion[i].yaw_rate = yaw_rate_at(ins, yaw, i, yaw_rate_window_s / 2.0);

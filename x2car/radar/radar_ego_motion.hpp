@@ -4,7 +4,9 @@
 // car's heading. What it does give, independent of its mounting:
 //   - the car's speed: the INS velocity's norm; by the non-holonomic constraint the car
 //     moves along its own x axis, so v_car_in_vehicle = (s, 0) with s > 0 forward, s < 0 when the
-//     velocity points more than 90 deg away from the INS's x axis (reversing);
+//     velocity points more than 90 deg away from the way the car drives in most of the log,
+//     against the INS heading (reversing): the INS's mounting yaw may be any (180 deg for a box
+//     mounted backwards), and most of a drive goes forward;
 //   - the yaw rate omega [rad/s], d(INS yaw)/dt, the same for every point of the rigid car; the
 //     slope of a least-squares line through the INS yaw over yaw_rate_window_s, since the
 //     heading's white noise makes differences of neighbouring records far too noisy.
