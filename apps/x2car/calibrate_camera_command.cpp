@@ -242,11 +242,11 @@ int run_calibrate_camera(const CalibrateCameraArguments& arguments) {
     const std::optional<double> rate = camera::frames_rate_hz(frames.times);
     const double paper_rate_hz = options.filter_frame_rate_hz;
     if (rate && paper_rate_hz > 0.0 && *rate > 1.5 * paper_rate_hz) {
+      const std::size_t apart = camera::frames_apart_for_rate(frames.times, paper_rate_hz);
       spdlog::info(
           "the frames run at {:.3g} Hz and each is estimated; --max-frame-rate {:g} (the paper's "
           "camera's rate) keeps one frame in {} and runs about {} times as fast",
-          *rate, paper_rate_hz, camera::frames_apart_for_rate(frames.times, paper_rate_hz),
-          camera::frames_apart_for_rate(frames.times, paper_rate_hz));
+          *rate, paper_rate_hz, apart, apart);
     }
   }
   ProgressBar progress("frames", spdlog::should_log(spdlog::level::info));

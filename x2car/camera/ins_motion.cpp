@@ -92,7 +92,6 @@ std::vector<std::uint8_t> reversing_records(std::span<const io::InsRecord> recor
   std::vector<double> offsets(records.size(), 0.0);
   std::vector<std::uint8_t> moving(records.size(), 0);
   std::vector<double> moving_offsets;
-  std::vector<double> doubled_offsets;
   for (std::size_t i = 0; i < records.size(); ++i) {
     const Eigen::Vector2d velocity = velocity_at(records, i, velocities);
     if (velocity.norm() < options.min_reversing_speed_mps) continue;
@@ -100,17 +99,13 @@ std::vector<std::uint8_t> reversing_records(std::span<const io::InsRecord> recor
     courses[i] = std::atan2(velocity.y(), velocity.x());
     offsets[i] = angle_difference(records[i].attitude.yaw, courses[i]);
     moving_offsets.push_back(offsets[i]);
-    doubled_offsets.push_back(2.0 * offsets[i]);
   }
   std::vector<std::uint8_t> reversing(records.size(), 0);
-  if (doubled_offsets.empty() ||
-      mean_resultant_length(doubled_offsets) < options.min_heading_agreement ||
-      !heading_turns_with_course(records, courses, moving, options)) {
-    return reversing;
-  }
-  const double ahead = majority_axis_end(moving_offsets);
+  const std::optional<double> ahead =
+      majority_axis_end(moving_offsets, options.min_heading_agreement);
+  if (!ahead || !heading_turns_with_course(records, courses, moving, options)) return reversing;
   for (std::size_t i = 0; i < records.size(); ++i) {
-    reversing[i] = moving[i] && std::abs(angle_difference(offsets[i], ahead)) > kPi / 2.0;
+    reversing[i] = moving[i] && std::abs(angle_difference(offsets[i], *ahead)) > kPi / 2.0;
   }
   return reversing;
 }

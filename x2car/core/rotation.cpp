@@ -118,11 +118,14 @@ Eigen::Vector3d resultant(std::span<const double> angles, std::span<const double
   return {sum_cos, sum_sin, sum_weights};
 }
 
+// A mean resultant length at most this has no direction: the angles cancel out.
+constexpr double kVanishingResultant = 1e-12;
+
 }  // namespace
 
 double circular_mean(std::span<const double> angles, std::span<const double> weights) {
   const Eigen::Vector3d sums = resultant(angles, weights);
-  if (std::hypot(sums.x(), sums.y()) <= 1e-12 * sums.z()) {
+  if (std::hypot(sums.x(), sums.y()) <= kVanishingResultant * sums.z()) {
     throw std::invalid_argument("circular mean: the directions cancel out");
   }
   return wrap_angle(std::atan2(sums.y(), sums.x()));
@@ -133,10 +136,13 @@ double mean_resultant_length(std::span<const double> angles, std::span<const dou
   return std::hypot(sums.x(), sums.y()) / sums.z();
 }
 
-double majority_axis_end(std::span<const double> angles) {
+std::optional<double> majority_axis_end(std::span<const double> angles, double min_agreement) {
   std::vector<double> doubled;
   doubled.reserve(angles.size());
   for (const double angle : angles) doubled.push_back(2.0 * angle);
+  if (doubled.empty()) return std::nullopt;
+  const double agreement = mean_resultant_length(doubled);
+  if (agreement < min_agreement || agreement <= kVanishingResultant) return std::nullopt;
   const double axis = 0.5 * circular_mean(doubled);
   const auto along_axis = std::ranges::count_if(angles, [axis](double angle) {
     return std::abs(angle_difference(angle, axis)) <= kPi / 2.0;

@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <optional>
 #include <span>
 
 namespace x2car {
@@ -74,9 +75,9 @@ double mean_resultant_length(std::span<const double> angles, std::span<const dou
 // The end that most angles [rad] lie within 90 deg of, of the axis they gather round (the circular
 // mean of the doubled angles, halved), in (-pi, pi]: of the offsets between a car's course and a
 // device's heading, the one it has driving ahead when most of a drive goes forward (backing up
-// falls at the axis' other end, whatever share it has). Throws std::invalid_argument as
-// circular_mean does for the doubled angles (none, or an axis that cancels out).
-double majority_axis_end(std::span<const double> angles);
+// falls at the axis' other end, whatever share it has). nullopt when there are none, or when the
+// doubled angles' mean resultant length is below `min_agreement` or vanishes (no axis at all).
+std::optional<double> majority_axis_end(std::span<const double> angles, double min_agreement);
 
 // ---- conversions between the reported azimuth and the ENU heading -------------------------
 

@@ -204,15 +204,18 @@ TEST(CircularMean, RejectsInputWithoutAMean) {
 // some backing up at the other end, at any offset (a device mounted backwards: about pi).
 TEST(MajorityAxisEnd, IsTheEndMostAnglesLieOn) {
   const std::vector<double> mostly_ahead = {0.02, -0.01, 0.0, kPi - 0.01, 0.01};
-  EXPECT_NEAR(majority_axis_end(mostly_ahead), 0.002, 1e-4);
+  EXPECT_NEAR(*majority_axis_end(mostly_ahead, 0.5), 0.002, 1e-4);
   std::vector<double> turned;
   for (const double angle : mostly_ahead) turned.push_back(wrap_angle(angle + kPi));
-  EXPECT_NEAR(std::abs(majority_axis_end(turned)), kPi - 0.002, 1e-4);
+  EXPECT_NEAR(std::abs(*majority_axis_end(turned, 0.5)), kPi - 0.002, 1e-4);
   const std::vector<double> sideways = {kPi / 2, kPi / 2 + 0.02, -kPi / 2, kPi / 2 - 0.02};
-  EXPECT_NEAR(majority_axis_end(sideways), kPi / 2, 1e-3);
-  EXPECT_THROW(majority_axis_end({}), std::invalid_argument);
+  EXPECT_NEAR(*majority_axis_end(sideways, 0.5), kPi / 2, 1e-3);
+  EXPECT_FALSE(majority_axis_end({}, 0.5));
   const std::vector<double> across = {0.0, kPi / 2};  // doubled: opposite, no axis
-  EXPECT_THROW(majority_axis_end(across), std::invalid_argument);
+  EXPECT_FALSE(majority_axis_end(across, 0.0));
+  const std::vector<double> spread = {0.0, kPi / 4};  // doubled: 90 deg apart, length 0.71
+  EXPECT_TRUE(majority_axis_end(spread, 0.7));
+  EXPECT_FALSE(majority_axis_end(spread, 0.75));
 }
 
 TEST(Azimuth, ConvertsToEnuHeading) {

@@ -75,15 +75,12 @@ constexpr double kMinCourseAgreement = 0.5;
 double ahead_of_ins(std::span<const io::InsRecord> ins,
                     std::span<const Eigen::Vector3d> velocities) {
   std::vector<double> offsets;
-  std::vector<double> doubled;
   for (std::size_t i = 0; i < ins.size(); ++i) {
     if (velocities[i].head<2>().norm() < kCourseSpeedMps) continue;
     offsets.push_back(
         angle_difference(std::atan2(velocities[i].y(), velocities[i].x()), ins[i].attitude.yaw));
-    doubled.push_back(2.0 * offsets.back());
   }
-  if (offsets.empty() || mean_resultant_length(doubled) < kMinCourseAgreement) return 0.0;
-  return majority_axis_end(offsets);
+  return majority_axis_end(offsets, kMinCourseAgreement).value_or(0.0);
 }
 
 // Speed from the velocity's norm (3-D: on a grade the car still moves along its x axis, in the
