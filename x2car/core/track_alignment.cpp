@@ -84,12 +84,13 @@ std::vector<Eigen::Vector3d> spline_velocities(std::span<const double> times,
 // The velocity method's yaw and pitch of one sample (see the header); NaN when the velocity is
 // zero or vertical.
 void velocity_direction_angles(const Eigen::Vector3d& velocity_enu,
-                               const Eigen::Matrix3d& world_from_sensor, double& yaw,
-                               double& pitch) {
-  yaw = pitch = std::nan("");
+                               const Eigen::Matrix3d& world_from_sensor, double& yaw, double& pitch,
+                               double& elevation) {
+  yaw = pitch = elevation = std::nan("");
   const double speed = velocity_enu.norm();
   if (!(speed > 0.0) || !std::isfinite(speed)) return;
   const Eigen::Vector3d x_vehicle = velocity_enu / speed;
+  elevation = std::asin(std::clamp(x_vehicle.dot(world_from_sensor.col(2)), -1.0, 1.0));
   const Eigen::Vector3d horizontal_left = Eigen::Vector3d::UnitZ().cross(x_vehicle);
   if (!(horizontal_left.norm() > 1e-6)) return;
   const Eigen::Vector3d y_vehicle = horizontal_left.normalized();
@@ -323,6 +324,25 @@ double fit_pitch_per_acceleration(std::span<const double> pitches,
   return covariance / variance;
 }
 
+// The mean of a per-sample angle over the segments; with remove_body_pitch its slope on the
+// longitudinal acceleration (`slope`, 0 when not fitted) is fitted and taken out first.
+SegmentAverage average_without_body_pitch(const TrackAlignment& alignment,
+                                          std::span<const double> angles,
+                                          const TrackAlignmentOptions& options, double& slope) {
+  const SegmentAverage plain =
+      average_over_segments(alignment.track.time, angles, alignment.segmentation, options.average);
+  slope = 0.0;
+  if (!options.remove_body_pitch) return plain;
+  slope = fit_pitch_per_acceleration(angles, alignment.longitudinal_acceleration, plain,
+                                     options.min_acceleration_spread);
+  std::vector<double> corrected(angles.begin(), angles.end());
+  for (std::size_t i = 0; i < corrected.size(); ++i) {
+    corrected[i] -= slope * alignment.longitudinal_acceleration[i];
+  }
+  return average_over_segments(alignment.track.time, corrected, alignment.segmentation,
+                               options.average);
+}
+
 std::string describe_shortage(const TrackAlignment& alignment,
                               const TrackAlignmentOptions& options) {
   const SegmentationRejections& r = alignment.segmentation.rejections;
@@ -397,9 +417,11 @@ TrackAlignment align_track(const SensorTrack& sensor_track, const TrackAlignment
   alignment.heading_offset = heading_offsets(alignment.sensor_heading, alignment.track.heading_enu);
   alignment.velocity_yaw.resize(n);
   alignment.velocity_pitch.resize(n);
+  alignment.velocity_elevation.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     velocity_direction_angles(velocities[i], sensor_track.world_from_sensor[i],
-                              alignment.velocity_yaw[i], alignment.velocity_pitch[i]);
+                              alignment.velocity_yaw[i], alignment.velocity_pitch[i],
+                              alignment.velocity_elevation[i]);
   }
   alignment.reversing = find_reversing(alignment.heading_offset, alignment.track.speed,
                                        options.reversing_test_min_speed);
@@ -434,19 +456,11 @@ TrackAlignment align_track(const SensorTrack& sensor_track, const TrackAlignment
       alignment.track.time, alignment.velocity_yaw, alignment.segmentation, options.average);
   add_lever_arm_uncertainty(alignment, *alignment.yaw);
   add_lever_arm_uncertainty(alignment, *alignment.velocity_yaw_estimate);
-  alignment.velocity_pitch_estimate = average_over_segments(
-      alignment.track.time, alignment.velocity_pitch, alignment.segmentation, options.average);
-  if (options.remove_body_pitch) {
-    alignment.pitch_per_acceleration = fit_pitch_per_acceleration(
-        alignment.velocity_pitch, alignment.longitudinal_acceleration,
-        *alignment.velocity_pitch_estimate, options.min_acceleration_spread);
-    std::vector<double> corrected = alignment.velocity_pitch;
-    for (std::size_t i = 0; i < n; ++i) {
-      corrected[i] -= alignment.pitch_per_acceleration * alignment.longitudinal_acceleration[i];
-    }
-    alignment.velocity_pitch_estimate = average_over_segments(
-        alignment.track.time, corrected, alignment.segmentation, options.average);
-  }
+  alignment.velocity_pitch_estimate = average_without_body_pitch(
+      alignment, alignment.velocity_pitch, options, alignment.pitch_per_acceleration);
+  double elevation_per_acceleration = 0.0;
+  alignment.velocity_elevation_estimate = average_without_body_pitch(
+      alignment, alignment.velocity_elevation, options, elevation_per_acceleration);
   return alignment;
 }
 

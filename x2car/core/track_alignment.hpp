@@ -157,7 +157,12 @@ struct TrackAlignment {
   // beta = asin(yaw_rate_curvature * lever_arm_x), added to both yaws [rad]; all 0 without a lever
   // arm.
   std::vector<double> lever_arm_shift;
-  std::vector<double> velocity_pitch;             // per-sample pitch of the velocity method [rad]
+  std::vector<double> velocity_pitch;  // per-sample pitch of the velocity method [rad]
+  // Per-sample angle of the velocity above the sensor's xy plane, asin(v . z_sensor) [rad]: it
+  // needs no level world, only the sensor's frame. For a sensor facing ahead it is its pitch,
+  // facing sideways its roll; it is 0 for any yaw when the sensor's xy plane is the car's (a
+  // levelled sensor: the check of a ground plane's roll and pitch against the motion).
+  std::vector<double> velocity_elevation;
   std::vector<double> longitudinal_acceleration;  // of the smoothed track [m/s^2]
   // Fitted body pitch per longitudinal acceleration, removed from velocity_pitch_estimate
   // [rad / (m/s^2)]; 0 when not fitted. Braking (a < 0) dips the nose (pitch > 0): usually < 0.
@@ -193,6 +198,8 @@ struct TrackAlignment {
   std::optional<SegmentAverage> yaw;                      // track-heading method
   std::optional<SegmentAverage> velocity_yaw_estimate;    // velocity-direction method
   std::optional<SegmentAverage> velocity_pitch_estimate;  // velocity-direction method
+  // The mean of velocity_elevation, its body pitch removed like the pitch's (its own slope).
+  std::optional<SegmentAverage> velocity_elevation_estimate;
 };
 
 // A track too short or too sparse gives insufficient_reason, not an exception. Throws

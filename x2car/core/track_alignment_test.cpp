@@ -79,6 +79,26 @@ TEST(TrackAlignment, SignCheckASensorYawedLeftReportsPositiveYaw) {
   EXPECT_THAT(pitched.velocity_pitch_estimate->value, AngleNearDeg(rad_from_deg(3.0), 1e-4));
 }
 
+// The velocity's elevation over the sensor's xy plane: the pitch of a sensor facing ahead, the
+// roll of one facing sideways, asin(cos yaw sin pitch cos roll + sin yaw sin roll) at any yaw
+// (the first row of vehicle_from_sensor's transpose's z); the velocity pitch stays the pitch.
+TEST(TrackAlignment, TheVelocitysElevationOverTheSensorsPlaneMixesRollAndPitchByTheYaw) {
+  const auto heading = [](double t) { return 0.3 + 0.2 * std::sin(2 * kPi * t / 60.0); };
+  const auto speed = [](double) { return 12.0; };
+  const double roll = rad_from_deg(2.5), pitch = rad_from_deg(-1.5);
+  for (const double yaw_deg : {0.0, 90.0, 180.0, -135.0}) {
+    SCOPED_TRACE(yaw_deg);
+    const double yaw = rad_from_deg(yaw_deg);
+    const TrackAlignment alignment =
+        align_track(drive(60.0, heading, speed, {roll, pitch, yaw}, true));
+    ASSERT_TRUE(alignment.velocity_elevation_estimate);
+    const double expected = std::asin(std::cos(yaw) * std::sin(pitch) * std::cos(roll) +
+                                      std::sin(yaw) * std::sin(roll));
+    EXPECT_THAT(alignment.velocity_elevation_estimate->value, AngleNearDeg(expected, 0.002));
+    EXPECT_THAT(alignment.velocity_pitch_estimate->value, AngleNearDeg(pitch, 0.002));
+  }
+}
+
 TEST(TrackAlignment, ReversingSamplesAreExcludedAndCounted) {
   // 5 m/s, slowing to -1.5 m/s at 30-33 s, reversing until 40 s, then forward again from 43 s.
   const auto speed = [](double t) {

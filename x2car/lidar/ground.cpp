@@ -57,6 +57,9 @@ std::size_t filter_points(const io::PointCloud& sweep, const GroundOptions& opti
   const double max_lateral =
       options.max_lateral_m > 0.0 ? options.max_lateral_m : std::numeric_limits<double>::infinity();
   const double tan_tilt = std::tan(options.max_tilt);
+  // The sideways distance is p . (-sin a, cos a), across the travel's direction (cos a, sin a).
+  const double across_x = -std::sin(options.travel_yaw);
+  const double across_y = std::cos(options.travel_yaw);
   std::size_t invalid = 0;
   filtered.clear();
   for (const io::LidarPoint& p : sweep.points) {
@@ -65,7 +68,9 @@ std::size_t filter_points(const io::PointCloud& sweep, const GroundOptions& opti
       continue;
     }
     const double r2 = double{p.x} * p.x + double{p.y} * p.y;
-    if (r2 < min_r2 || r2 > max_r2 || std::abs(double{p.y}) > max_lateral) continue;
+    if (r2 < min_r2 || r2 > max_r2 || std::abs(across_x * p.x + across_y * p.y) > max_lateral) {
+      continue;
+    }
     const double slack = std::sqrt(r2) * tan_tilt;
     if (p.z > -options.min_height_m + slack || p.z < -options.max_height_m - slack) continue;
     filtered.emplace_back(p.x, p.y, p.z);
@@ -220,6 +225,7 @@ void GroundOptions::Check() const {
   check.positive("max_range_m", max_range_m);
   check.that(min_range_m < max_range_m, "min_range_m", "must be < max_range_m", min_range_m);
   check.finite("max_lateral_m", max_lateral_m);  // <= 0 turns the limit off
+  check.finite("travel_yaw", travel_yaw);
   check.non_negative("min_height_m", min_height_m);
   check.positive("max_height_m", max_height_m);
   check.that(min_height_m < max_height_m, "min_height_m", "must be < max_height_m", min_height_m);

@@ -4,9 +4,10 @@
 //
 // Method, in the paper's steps:
 //   1. range filter: points with a horizontal distance in [min_range_m, max_range_m], within
-//      max_lateral_m sideways, and low enough to be road under a LiDAR mounted min_height_m ..
-//      max_height_m above it and tilted at most max_tilt (walls, cars and trees above the road
-//      are dropped before any fit); NaN/inf points are skipped and counted;
+//      max_lateral_m sideways of the car's travel (travel_yaw), and low enough to be road under a
+//      LiDAR mounted min_height_m .. max_height_m above it and tilted at most max_tilt (walls, cars
+//      and trees above the road are dropped before any fit); NaN/inf points are skipped and
+//      counted;
 //   2. multi-start RANSAC on a seeded random subsample of those points: each start draws its own
 //      seeded stream of 3-point planes and keeps the best by the MSAC score (truncated squared
 //      distance), planes tilted beyond max_tilt are never considered;
@@ -43,6 +44,12 @@ struct GroundOptions {
   // the right curb is 3.75 m from the car's path; at 4 m the curb's foot tilts roll by ~0.03 deg).
   // <= 0 turns the limit off.
   double max_lateral_m = 3.0;
+  // The way the car drives, as an angle in the LiDAR's xy plane from its x axis about its z axis
+  // [rad]: max_lateral_m is measured across it. 0 takes the LiDAR's x axis as the car's; the
+  // calibration sets it from the odometry's track (calibrate_lidar), since a LiDAR mounted at a yaw
+  // of 90 deg has the road's width along its x axis, and a strip along it would hold the curbs and
+  // sidewalks beside the car. Only the axis counts: 180 deg more is the same strip.
+  double travel_yaw = 0.0;
   // Height prior of the LiDAR above the road [m]: a candidate must lie between min_height_m and
   // max_height_m below the LiDAR, widened by r * tan(max_tilt) at horizontal distance r.
   double min_height_m = 0.3;

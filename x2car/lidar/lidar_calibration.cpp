@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_pipeline.h>
 
 #include <Eigen/Geometry>
@@ -31,8 +32,9 @@ constexpr const char* kSensor = "lidar";
 struct SweepInFlight {
   std::size_t index = 0;
   io::PointCloud cloud;
-  std::optional<std::string> read_error;  // set when skip_bad_sweeps caught an InputError
-  std::exception_ptr error;               // any other error while reading or fitting it
+  std::optional<std::string> read_error;    // set when skip_bad_sweeps caught an InputError
+  std::exception_ptr error;                 // any other error while reading or fitting it
+  std::optional<double> ground_travel_yaw;  // set on the sweeps whose ground is fitted [rad]
 };
 
 // What one pass over the sweeps produced, for the sweeps that could be read.
@@ -41,6 +43,8 @@ struct SweepPass {
   std::vector<std::optional<GroundFit>> ground;  // one per readable sweep; set on every k-th
   std::int64_t unreadable = 0;                   // sweeps skipped (skip_bad_sweeps)
   std::optional<std::string> first_read_error;   // the earliest skipped sweep's message
+  double travel_yaw = 0.0;         // the car's travel axis in the LiDAR's xy plane [rad]
+  double travel_distance_m = 0.0;  // the track's length that axis was averaged over
 };
 
 // Leaves out the sweeps that could not be read: the odometry went on from the next one.
@@ -56,21 +60,56 @@ void drop_unreadable(const std::vector<std::uint8_t>& unreadable, SweepPass& pas
   pass.ground.resize(kept);
 }
 
-// Reads sweep `index` and fits its ground when it is a ground frame; with skip_bad_sweeps an
-// InputError marks the sweep unreadable instead of ending the run.
-void read_and_fit(const SweepSource& sweeps, const LidarCalibrationOptions& options,
-                  SweepInFlight& sweep, std::optional<GroundFit>& ground, GroundScratch& scratch) {
+bool registered(const OdometryStep& step) {
+  return step.status == RegistrationStatus::kOk || step.status == RegistrationStatus::kFirstSweep;
+}
+
+// The axis the car travels along, in the LiDAR's xy plane, from the odometry's steps: their
+// directions averaged as axes (doubled angles, so backing up counts alike), weighted by their
+// length. The ground's sideways limit is measured across it (GroundOptions::travel_yaw).
+class TravelAxis {
+ public:
+  // The step from `previous` to `step`, both registered, taken when faster than min_speed [m/s].
+  void add(const OdometryStep& previous, const OdometryStep& step, double min_speed) {
+    const Eigen::Vector3d moved =
+        previous.world_from_lidar.linear().transpose() *
+        (step.world_from_lidar.translation() - previous.world_from_lidar.translation());
+    const double length = moved.head<2>().norm();
+    const double dt = step.time - previous.time;
+    if (!(dt > 0.0) || !(length > min_speed * dt)) return;
+    doubled_cos_sum_ += (moved.x() * moved.x() - moved.y() * moved.y()) / length;
+    doubled_sin_sum_ += 2.0 * moved.x() * moved.y() / length;
+    distance_m_ += length;
+  }
+  double distance_m() const { return distance_m_; }
+  // The axis' angle from the LiDAR's x axis in (-90, 90] deg [rad]; 0 before any step.
+  double yaw() const { return 0.5 * std::atan2(doubled_sin_sum_, doubled_cos_sum_); }
+
+ private:
+  double doubled_cos_sum_ = 0.0;
+  double doubled_sin_sum_ = 0.0;
+  double distance_m_ = 0.0;
+};
+
+// Reads sweep `index`; with skip_bad_sweeps an InputError marks the sweep unreadable instead of
+// ending the run.
+void read_sweep_in_flight(const SweepSource& sweeps, const LidarCalibrationOptions& options,
+                          SweepInFlight& sweep) {
   try {
     sweep.cloud = sweeps.read(sweep.index);
   } catch (const InputError& error) {
     if (!options.skip_bad_sweeps) throw;
     sweep.read_error = error.what();
-    return;
   }
-  if (sweep.index % static_cast<std::size_t>(options.ground_every) == 0) {
-    // Seeded per sweep so the result does not depend on the threads' order.
-    ground = fit_ground(sweep.cloud, options.ground, options.seed + sweep.index, scratch);
-  }
+}
+
+// The ground of sweep `index` with the sideways limit across `travel_yaw`; seeded per sweep so
+// the result does not depend on the threads' order.
+GroundFit fit_ground_across(const io::PointCloud& cloud, std::size_t index, double travel_yaw,
+                            const LidarCalibrationOptions& options, GroundScratch& scratch) {
+  GroundOptions ground = options.ground;
+  ground.travel_yaw = travel_yaw;
+  return fit_ground(cloud, ground, options.seed + index, scratch);
 }
 
 // The odometry stamps a pose at its sweep's time plus the deskew time (the middle of the points'
@@ -90,6 +129,26 @@ OdometryStep register_in_order(LidarOdometry& odometry, const SweepInFlight& swe
   }
 }
 
+// The sweeps whose ground was fitted before the track gave the travel's axis, fitted again (read
+// again) across the whole track's axis.
+void refit_early_ground(const SweepSource& sweeps, const LidarCalibrationOptions& options,
+                        const std::vector<std::size_t>& early,
+                        tbb::enumerable_thread_specific<GroundScratch>& scratch, SweepPass& pass) {
+  std::vector<std::exception_ptr> errors(early.size());
+  tbb::parallel_for(std::size_t{0}, early.size(), [&](std::size_t k) {
+    try {
+      const std::size_t index = early[k];
+      pass.ground[index] =
+          fit_ground_across(sweeps.read(index), index, pass.travel_yaw, options, scratch.local());
+    } catch (...) {
+      errors[k] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& error : errors) {
+    if (error) std::rethrow_exception(error);
+  }
+}
+
 SweepPass run_sweep_pass(const SweepSource& sweeps, const LidarCalibrationOptions& options) {
   const std::size_t count = sweeps.times.size();
   SweepPass pass;
@@ -97,6 +156,9 @@ SweepPass run_sweep_pass(const SweepSource& sweeps, const LidarCalibrationOption
   pass.ground.resize(count);
   std::vector<std::uint8_t> unreadable(count, 0);
   LidarOdometry odometry(options.odometry);
+  TravelAxis travel;
+  std::optional<std::size_t> last_registered;
+  std::vector<std::size_t> early_ground;  // ground sweeps before the travel's axis was known
   std::size_t next = 0;
   std::size_t done = 0;
   tbb::enumerable_thread_specific<GroundScratch> scratch;
@@ -104,51 +166,84 @@ SweepPass run_sweep_pass(const SweepSource& sweeps, const LidarCalibrationOption
   // first error in sweep order stops the reading and is rethrown once the pipeline has drained.
   std::exception_ptr first_error;
   std::atomic<bool> stopping = false;
+  std::vector<std::exception_ptr> ground_errors(count);
   // Enough sweeps in flight to keep every core reading and fitting while the odometry runs, few
   // enough that memory stays bounded.
   const std::size_t in_flight = 2 * std::max<std::size_t>(2, std::thread::hardware_concurrency());
+  using Sweep = std::shared_ptr<SweepInFlight>;
   tbb::parallel_pipeline(
       in_flight,
-      tbb::make_filter<void, std::shared_ptr<SweepInFlight>>(
-          tbb::filter_mode::serial_in_order,
-          [&](tbb::flow_control& control) -> std::shared_ptr<SweepInFlight> {
-            if (next == count || stopping.load()) {
-              control.stop();
-              return nullptr;
-            }
-            auto sweep = std::make_shared<SweepInFlight>();
-            sweep->index = next++;
-            return sweep;
-          }) &
-          tbb::make_filter<std::shared_ptr<SweepInFlight>, std::shared_ptr<SweepInFlight>>(
-              tbb::filter_mode::parallel,
-              [&](std::shared_ptr<SweepInFlight> sweep) {
-                if (stopping.load()) return sweep;
-                try {
-                  read_and_fit(sweeps, options, *sweep, pass.ground[sweep->index], scratch.local());
-                } catch (...) {
-                  sweep->error = std::current_exception();
-                }
-                return sweep;
-              }) &
-          tbb::make_filter<std::shared_ptr<SweepInFlight>, void>(
-              tbb::filter_mode::serial_in_order, [&](const std::shared_ptr<SweepInFlight>& sweep) {
-                if (first_error) return;
+      tbb::make_filter<void, Sweep>(tbb::filter_mode::serial_in_order,
+                                    [&](tbb::flow_control& control) -> Sweep {
+                                      if (next == count || stopping.load()) {
+                                        control.stop();
+                                        return nullptr;
+                                      }
+                                      auto sweep = std::make_shared<SweepInFlight>();
+                                      sweep->index = next++;
+                                      return sweep;
+                                    }) &
+          tbb::make_filter<Sweep, Sweep>(tbb::filter_mode::parallel,
+                                         [&](Sweep sweep) {
+                                           if (stopping.load()) return sweep;
+                                           try {
+                                             read_sweep_in_flight(sweeps, options, *sweep);
+                                           } catch (...) {
+                                             sweep->error = std::current_exception();
+                                           }
+                                           return sweep;
+                                         }) &
+          // The odometry, in order; it decides the axis the sweep's ground is fitted across.
+          tbb::make_filter<Sweep, Sweep>(
+              tbb::filter_mode::serial_in_order,
+              [&](Sweep sweep) {
+                if (first_error) return sweep;
                 try {
                   if (sweep->error) std::rethrow_exception(sweep->error);
+                  const std::size_t index = sweep->index;
                   if (sweep->read_error) {
-                    unreadable[sweep->index] = 1;
+                    unreadable[index] = 1;
                     if (pass.unreadable++ == 0) pass.first_read_error = sweep->read_error;
                   } else {
-                    pass.steps[sweep->index] = register_in_order(odometry, *sweep, sweeps);
+                    pass.steps[index] = register_in_order(odometry, *sweep, sweeps);
+                    if (registered(pass.steps[index])) {
+                      if (last_registered) {
+                        travel.add(pass.steps[*last_registered], pass.steps[index],
+                                   options.standing_speed);
+                      }
+                      last_registered = index;
+                    }
+                    if (index % static_cast<std::size_t>(options.ground_every) == 0) {
+                      const bool known = travel.distance_m() >= options.travel_axis_distance_m;
+                      if (!known) early_ground.push_back(index);
+                      sweep->ground_travel_yaw = known ? travel.yaw() : 0.0;
+                    }
                   }
                   if (options.progress) options.progress(++done, count);
                 } catch (...) {
                   first_error = std::current_exception();
                   stopping = true;
                 }
-              }));
+                return sweep;
+              }) &
+          tbb::make_filter<Sweep, void>(tbb::filter_mode::parallel, [&](const Sweep& sweep) {
+            if (stopping.load() || !sweep->ground_travel_yaw) return;
+            try {
+              pass.ground[sweep->index] = fit_ground_across(
+                  sweep->cloud, sweep->index, *sweep->ground_travel_yaw, options, scratch.local());
+            } catch (...) {
+              ground_errors[sweep->index] = std::current_exception();
+            }
+          }));
   if (first_error) std::rethrow_exception(first_error);
+  for (const std::exception_ptr& error : ground_errors) {
+    if (error) std::rethrow_exception(error);
+  }
+  pass.travel_distance_m = travel.distance_m();
+  if (pass.travel_distance_m >= options.travel_axis_distance_m) {
+    pass.travel_yaw = travel.yaw();
+    refit_early_ground(sweeps, options, early_ground, scratch, pass);
+  }
   drop_unreadable(unreadable, pass);
   return pass;
 }
@@ -168,10 +263,6 @@ std::vector<double> turn_rates_from(const std::vector<OdometryStep>& steps) {
         Eigen::AngleAxisd(a.transpose() * b).angle() / (steps[after].time - steps[before].time);
   }
   return turn_rate;
-}
-
-bool registered(const OdometryStep& step) {
-  return step.status == RegistrationStatus::kOk || step.status == RegistrationStatus::kFirstSweep;
 }
 
 // The per-frame ground measurements that pass the gates.
@@ -512,21 +603,31 @@ void write_ground_series(const GroundFrames& frames, CalibrationResult& result) 
   result.series.push_back(std::move(nz));
 }
 
-// The motion's own pitch (the levelled frame is pitched by the ground's error: the velocity's
-// pitch in it is minus that error, so adding it back gives the motion's estimate), checked against
-// the ground's.
-void write_motion_pitch(const TrackAlignment& alignment, const LidarCalibrationOptions& options,
+// The motion's check of the ground. The track is levelled by the ground's roll and pitch, so the
+// velocity runs in the levelled LiDAR's xy plane when they are right. Errors (d_roll, d_pitch) of
+// theirs tilt that plane, and the car's travel, at the LiDAR's yaw psi in it, leaves it by
+// e = -(cos psi d_pitch + sin psi d_roll): a LiDAR facing ahead or back checks its pitch, one
+// facing sideways its roll (the other angle taken as the ground's). Adding back what the travel
+// says is the motion's own estimate of that angle, checked against the ground's.
+void write_motion_check(const TrackAlignment& alignment, const LidarCalibrationOptions& options,
                         CalibrationResult& result) {
-  const SegmentAverage& residual_pitch = *alignment.velocity_pitch_estimate;
-  const double motion_pitch = *result.pitch + residual_pitch.value;
-  result.diagnostics["motion_pitch_deg"] = deg_from_rad(motion_pitch);
-  result.diagnostics["motion_pitch_std_deg"] = deg_from_rad(residual_pitch.standard_error);
-  if (options.disagreement(motion_pitch, residual_pitch.standard_error, *result.pitch,
-                           *result.pitch_std)) {
-    append_reason(result,
-                  fmt::format("the pitch from the motion ({:.3f} deg) differs from the ground's "
-                              "({:.3f} deg): check the odometry and the ground fits",
-                              deg_from_rad(motion_pitch), deg_from_rad(*result.pitch)));
+  const SegmentAverage& elevation = *alignment.velocity_elevation_estimate;
+  const double cos_yaw = std::cos(*result.yaw);
+  const double sin_yaw = std::sin(*result.yaw);
+  const bool facing_along = std::abs(cos_yaw) >= std::abs(sin_yaw);
+  const char* angle = facing_along ? "pitch" : "roll";
+  const double share = facing_along ? cos_yaw : sin_yaw;
+  const double ground = facing_along ? *result.pitch : *result.roll;
+  const double ground_std = facing_along ? *result.pitch_std : *result.roll_std;
+  const double motion = ground + elevation.value / share;
+  const double motion_std = elevation.standard_error / std::abs(share);
+  result.diagnostics[fmt::format("motion_{}_deg", angle)] = deg_from_rad(motion);
+  result.diagnostics[fmt::format("motion_{}_std_deg", angle)] = deg_from_rad(motion_std);
+  if (options.disagreement(motion, motion_std, ground, ground_std)) {
+    append_reason(result, fmt::format("the {0} from the motion ({1:.3f} deg) differs from the "
+                                      "ground's ({2:.3f} deg): check the odometry and the ground "
+                                      "fits",
+                                      angle, deg_from_rad(motion), deg_from_rad(ground)));
   }
 }
 
@@ -544,7 +645,7 @@ void write_yaw(const TrackAlignment& alignment, const LidarCalibrationOptions& o
     return;
   }
   if (choice->disagreement) append_reason(result, *choice->disagreement);
-  write_motion_pitch(alignment, options, result);
+  write_motion_check(alignment, options, result);
 }
 
 double path_length(const std::vector<OdometryStep>& steps) {
@@ -605,6 +706,7 @@ void LidarCalibrationOptions::Check() const {
   check.positive("block_s", block_s);
   check.positive("standing_speed", standing_speed);
   check.positive("max_standing_ground_spread", max_standing_ground_spread);
+  check.non_negative("travel_axis_distance_m", travel_axis_distance_m);
   check.at_least("min_sweeps", static_cast<double>(min_sweeps), 3);
   check.at_least("min_ground_frames", static_cast<double>(min_ground_frames), 2);
   check.probability("max_failed_registration_share", max_failed_registration_share);
@@ -651,6 +753,9 @@ CalibrationResult calibrate_lidar(const SweepSource& sweeps,
   result.status = CalibrationStatus::kOk;
   result.support["sweeps"] = static_cast<std::int64_t>(count);
   const std::int64_t failed_registrations = write_odometry_counts(pass, result);
+  if (pass.travel_distance_m >= options.travel_axis_distance_m) {
+    result.diagnostics["ground_travel_yaw_deg"] = deg_from_rad(pass.travel_yaw);
+  }
   if (count < options.min_sweeps) {
     result.status = CalibrationStatus::kInsufficientData;
     append_reason(result, fmt::format("only {} readable sweeps; need at least {}", count,

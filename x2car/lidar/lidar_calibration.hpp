@@ -85,6 +85,13 @@ struct LidarCalibrationOptions {
   TrackAlignmentOptions alignment;
   // Which yaw the result reports (both are always computed and kept in the diagnostics).
   YawMethod yaw_method = YawMethod::kAuto;
+  // The ground's sideways limit (GroundOptions::max_lateral_m) is measured across the way the car
+  // drives, which calibrate_lidar takes from the odometry's track (so it sets
+  // ground.travel_yaw itself): the steps faster than standing_speed, their directions in the
+  // LiDAR's xy plane averaged as axes and weighted by their length. Until the track has covered
+  // this much [m] the axis is not known; those sweeps' ground is fitted again after the pass with
+  // the whole track's axis (with the LiDAR's x axis when the car never covered it).
+  double travel_axis_distance_m = 10.0;
   // Fewer sweeps than this, or fewer usable ground frames, is insufficient data.
   std::size_t min_sweeps = 20;
   std::size_t min_ground_frames = 10;
