@@ -52,8 +52,10 @@ void drop_unreadable(const std::vector<std::uint8_t>& unreadable, SweepPass& pas
   std::size_t kept = 0;
   for (std::size_t i = 0; i < unreadable.size(); ++i) {
     if (unreadable[i]) continue;
-    pass.steps[kept] = std::move(pass.steps[i]);
-    pass.ground[kept] = std::move(pass.ground[i]);
+    if (kept != i) {  // a self-move would leave a fit's failure message empty
+      pass.steps[kept] = std::move(pass.steps[i]);
+      pass.ground[kept] = std::move(pass.ground[i]);
+    }
     ++kept;
   }
   pass.steps.resize(kept);
@@ -278,6 +280,7 @@ struct GroundFrames {
   std::vector<double> speed;                 // [m/s], from the odometry
   std::int64_t fitted = 0;
   std::int64_t failed = 0;
+  std::string first_failure;  // why the earliest failed fit failed (GroundFit::failure)
   std::int64_t turning = 0;
   std::int64_t unregistered = 0;
 };
@@ -316,7 +319,7 @@ GroundFrames gate_ground_frames(const SweepPass& pass, const std::vector<double>
     if (!pass.ground[i]) continue;
     const GroundFit& fit = *pass.ground[i];
     if (!fit.plane) {
-      ++frames.failed;
+      if (frames.failed++ == 0) frames.first_failure = fit.failure;
       continue;
     }
     ++frames.fitted;
@@ -343,6 +346,22 @@ GroundFrames gate_ground_frames(const SweepPass& pass, const std::vector<double>
     frames.speed.push_back(acceleration.z());
   }
   return frames;
+}
+
+// Why the ground fits failed, for the reason: the first failure, and when most failed, where the
+// road is looked for. A LiDAR mounted upside down, or tilted far down at the road ahead, has none
+// of it there.
+std::string describe_ground_failures(const GroundFrames& frames, const GroundOptions& ground) {
+  if (frames.failed == 0) return "";
+  std::string text = fmt::format("; the first failed fit: {}", frames.first_failure);
+  if (2 * frames.failed >= frames.fitted + frames.failed) {
+    text += fmt::format(
+        " (the road is looked for {:g}-{:g} m below the LiDAR, as a plane within {:g} deg of its "
+        "z axis: a LiDAR mounted upside down or tilted more than that is not calibrated by the "
+        "ground)",
+        ground.min_height_m, ground.max_height_m, deg_from_rad(ground.max_tilt));
+  }
+  return text;
 }
 
 // A robust estimate of one mounting quantity from per-frame values.
@@ -770,9 +789,10 @@ CalibrationResult calibrate_lidar(const SweepSource& sweeps,
     result.status = CalibrationStatus::kInsufficientData;
     append_reason(result,
                   fmt::format("only {} usable ground frames (of {} fitted; {} failed, {} while "
-                              "turning, {} around failed registrations); need at least {}",
+                              "turning, {} around failed registrations); need at least {}{}",
                               frames.time.size(), frames.fitted, frames.failed, frames.turning,
-                              frames.unregistered, options.min_ground_frames));
+                              frames.unregistered, options.min_ground_frames,
+                              describe_ground_failures(frames, options.ground)));
     return finish(result);
   }
   // Roll, pitch and height stand on their own: they are reported even when the yaw lacks data.

@@ -19,6 +19,7 @@
 namespace x2car::lidar {
 namespace {
 
+using ::testing::ContainsRegex;
 using ::testing::HasSubstr;
 using ::testing::Not;
 using x2car::testing::AngleNearDeg;
@@ -128,6 +129,27 @@ const SimulatedLidarDrive& short_drive() {
       lidar_drive(sim::Scenario::kStraight, 15.0, 7, 32,
                   {rad_from_deg(1.0), rad_from_deg(-1.5), rad_from_deg(2.5)}, 1.8);
   return drive;
+}
+
+// A LiDAR mounted upside down has the road above it: no ground, and the reason says where the road
+// is looked for (before: only the counts).
+TEST(LidarCalibration, ALidarUpsideDownIsToldWhereTheRoadIsLookedFor) {
+  SweepSource upside_down = testing::sweep_source(short_drive());
+  upside_down.read = [read = upside_down.read](std::size_t index) {
+    io::PointCloud cloud = read(index);
+    for (io::LidarPoint& point : cloud.points) {  // turned 180 deg about x
+      point.y = -point.y;
+      point.z = -point.z;
+    }
+    return cloud;
+  };
+  const CalibrationResult result = calibrate_lidar(upside_down);
+  EXPECT_EQ(result.status, CalibrationStatus::kInsufficientData);
+  // The fit's own words (a self-move of the sweeps' results emptied them).
+  EXPECT_THAT(result.reason, ContainsRegex("the first failed fit: [a-z]"));
+  EXPECT_THAT(result.reason, HasSubstr("below the LiDAR, as a plane within 12 deg"));
+  EXPECT_THAT(result.reason, HasSubstr("upside down"));
+  EXPECT_FALSE(result.roll || result.pitch || result.z);
 }
 
 TEST(LidarCalibration, RollPitchAndHeightAreShownWhenOnlyTheYawLacksData) {
