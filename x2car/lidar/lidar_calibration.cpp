@@ -643,8 +643,8 @@ void write_motion_check(const TrackAlignment& alignment, const LidarCalibrationO
   result.diagnostics[fmt::format("motion_{}_deg", angle)] = deg_from_rad(motion);
   result.diagnostics[fmt::format("motion_{}_std_deg", angle)] = deg_from_rad(motion_std);
   if (options.disagreement(motion, motion_std, ground, ground_std)) {
-    append_reason(result, fmt::format("the {0} from the motion ({1:.3f} deg) differs from the "
-                                      "ground's ({2:.3f} deg): check the odometry and the ground "
+    append_reason(result, fmt::format("the {} from the motion ({:.3f} deg) differs from the "
+                                      "ground's ({:.3f} deg): check the odometry and the ground "
                                       "fits",
                                       angle, deg_from_rad(motion), deg_from_rad(ground)));
   }
@@ -748,9 +748,12 @@ CalibrationResult calibrate_lidar(const SweepSource& sweeps,
   std::optional<std::string> ground_unreliable;
   const auto finish = [&](CalibrationResult& result) {
     if (ground_unreliable) {
-      // A failed check of the fit outranks too little data: the numbers are there, but wrong.
+      // A failed check of the fit outranks too little data: the numbers are there, but wrong. It
+      // comes first in the reason too: an odometry that lost the motion also explains the yaw's
+      // counts of samples too slow.
       result.status = CalibrationStatus::kUnreliable;
-      append_reason(result, *ground_unreliable);
+      result.reason =
+          *ground_unreliable + (result.reason.empty() ? std::string() : "; " + result.reason);
     }
     result.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
