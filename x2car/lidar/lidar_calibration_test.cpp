@@ -51,14 +51,22 @@ void expect_mounting(const CalibrationResult& result, const io::SensorMounting& 
 }
 
 // Sign checks of DESIGN §1: a LiDAR yawed left, pitched down and rolled reports those signs.
-TEST(LidarCalibration, RecoversTheMountingOnAnUrbanDrive) {
-  const SimulatedLidarDrive drive =
-      lidar_drive(sim::Scenario::kUrban, 40.0, 3, 32,
-                  {rad_from_deg(1.5), rad_from_deg(2.0), rad_from_deg(3.0)}, 1.9);
-  // 40 s of urban driving holds about 13 s of straight runs; the default asks for 20 s.
+// 40 s of urban driving, a LiDAR rolled 1.5 deg and pitched 2 deg at `yaw_deg`; it holds about
+// 13 s of straight runs, so the options ask for 10 s (the default 20 s).
+SimulatedLidarDrive urban_drive_at_yaw(double yaw_deg) {
+  return lidar_drive(sim::Scenario::kUrban, 40.0, 3, 32,
+                     {rad_from_deg(1.5), rad_from_deg(2.0), rad_from_deg(yaw_deg)}, 1.9);
+}
+LidarCalibrationOptions urban_drive_options() {
   LidarCalibrationOptions options;
   options.alignment.min_valid_duration_s = 10.0;
-  const CalibrationResult result = calibrate_lidar(testing::sweep_source(drive), options);
+  return options;
+}
+
+TEST(LidarCalibration, RecoversTheMountingOnAnUrbanDrive) {
+  const SimulatedLidarDrive drive = urban_drive_at_yaw(3.0);
+  const CalibrationResult result =
+      calibrate_lidar(testing::sweep_source(drive), urban_drive_options());
   expect_mounting(result, drive.truth(), 0.1, 0.02);
   EXPECT_EQ(result.sensor, "lidar");
   EXPECT_GT(result.support.at("ground_frames"), 50);
@@ -81,11 +89,8 @@ TEST(LidarCalibration, NegativeAnglesKeepTheirSign) {
 // checks the roll, which a sideways LiDAR's travel tilts. The sweeps before the track has given
 // the travel's axis are fitted again across it.
 TEST(LidarCalibration, ALidarFacingSidewaysFitsTheRoadAcrossTheCarsTravel) {
-  const SimulatedLidarDrive drive =
-      lidar_drive(sim::Scenario::kUrban, 40.0, 3, 32,
-                  {rad_from_deg(1.5), rad_from_deg(2.0), rad_from_deg(93.0)}, 1.9);
-  LidarCalibrationOptions options;
-  options.alignment.min_valid_duration_s = 10.0;
+  const SimulatedLidarDrive drive = urban_drive_at_yaw(93.0);
+  LidarCalibrationOptions options = urban_drive_options();
   const CalibrationResult result = calibrate_lidar(testing::sweep_source(drive), options);
   expect_mounting(result, drive.truth(), 0.1, 0.02);
   EXPECT_THAT(result.reason, Not(HasSubstr("differs")));
