@@ -1,5 +1,6 @@
 #include "apps/x2car/camera_inputs.hpp"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -86,7 +87,26 @@ std::vector<std::optional<camera::VehicleMotion>> camera_motion_from_log(
   const auto covered = std::ranges::count_if(motion, [](const auto& m) { return m.has_value(); });
   spdlog::info("motion from {}: {} of {} frames covered", path, covered, motion.size());
   if (covered == 0) {
-    throw InputError(path, 0, "time", "the log covers none of the frames' times (another clock?)");
+    // Say both spans: a clock mismatch shows at once (UTC frames against a log that counts from
+    // 0, as a drive's ins.csv does where its novatel_enu.csv has UTC).
+    std::string spans;
+    if (!log.records.empty() && !frames.times.empty()) {
+      spans = fmt::format(
+          ": its records run {:.3f}-{:.3f} s{}, the frames {:.3f}-{:.3f} s",
+          log.records.front().time, log.records.back().time,
+          options.ins_to_frame_offset_s != 0.0
+              ? fmt::format(" (+{:.3f} s, its UTC start)", options.ins_to_frame_offset_s)
+              : "",
+          frames.times.front(), frames.times.back());
+    }
+    std::string hint = "another clock?";
+    if (unix_frames && !log.start_unix_time) {
+      hint =
+          "the frames' times are UTC, the log's count from its own start and it gives no UTC "
+          "start: give a log with UTC times, or --timestamps with the frames on the log's clock";
+    }
+    throw InputError(path, 0, "time",
+                     fmt::format("the log covers none of the frames' times{} ({})", spans, hint));
   }
   if (static_cast<std::size_t>(covered) < motion.size()) {
     spdlog::warn(

@@ -28,6 +28,7 @@
 namespace x2car::cli {
 namespace {
 
+using ::testing::ContainsRegex;
 using ::testing::HasSubstr;
 using ::testing::Not;
 
@@ -759,12 +760,15 @@ TEST(CalibrateCamera, RecoversTheMountingFromAFolderOfImages) {
 // --ins gates frames by the car's motion: a log that turns throughout leaves no frame to use.
 TEST(CalibrateCamera, InsLogGatesTurningFrames) {
   const auto folder = write_camera_drive("cli_calibrate_camera_ins", 24);
-  std::string ins = "time,x,y,z,vx,vy,vz,roll,pitch,yaw\n";
-  for (int i = 0; i <= 400; ++i) {
-    const double time = 9.0 + 0.01 * i;
-    ins += std::to_string(time) + "," + std::to_string(10.0 * i * 0.01) + ",0,0,10,0,0,0,0," +
-           std::to_string(0.3 * (time - 9.0)) + "\n";
-  }
+  const auto turning_log = [](double start_s) {
+    std::string text = "time,x,y,z,vx,vy,vz,roll,pitch,yaw\n";
+    for (int i = 0; i <= 400; ++i) {
+      text += std::to_string(start_s + 0.01 * i) + "," + std::to_string(10.0 * i * 0.01) +
+              ",0,0,10,0,0,0,0," + std::to_string(0.3 * 0.01 * i) + "\n";
+    }
+    return text;
+  };
+  const std::string ins = turning_log(9.0);
   const auto log = write_temp_file("cli_calibrate_camera_ins.csv", ins);
   const CliRun gated =
       run_x2car("calibrate camera --input " + folder.string() + " --window-frames 12 --ins " +
@@ -774,6 +778,14 @@ TEST(CalibrateCamera, InsLogGatesTurningFrames) {
   EXPECT_THAT(io::read_text_file(folder / "result.json"), HasSubstr("\"turning\": 24"));
   // The summary says why too, though no angle was estimated (it printed the reason alone).
   EXPECT_THAT(gated.output, HasSubstr("rejected: turning 24"));
+  // A log on another clock covers none of the frames: exit 2 with both spans (before: "another
+  // clock?" alone).
+  const auto later = write_temp_file("cli_calibrate_camera_ins_later.csv", turning_log(100.0));
+  const CliRun other_clock = run_x2car("calibrate camera --input " + folder.string() +
+                                       " --window-frames 12 --ins " + later.string());
+  EXPECT_EQ(other_clock.exit_code, 2) << other_clock.output;
+  EXPECT_THAT(other_clock.output, ContainsRegex("its records run 100.000-104.000 s, the frames "
+                                                "10.000-[0-9.]+ s \\(another clock\\?\\)"));
   // A drive folder gives its log, as to calibrate ins (it was read as a KITTI OXTS folder).
   std::filesystem::copy_file(log, folder / "gnss.csv");
   io::write_text_file(folder / "x2car.yaml", "sensors:\n  gnss: {type: ins, input: gnss.csv}\n");

@@ -1,6 +1,7 @@
 #include "x2car/io/oxts.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <array>
@@ -8,6 +9,7 @@
 #include <cstdint>
 #include <optional>
 #include <system_error>
+#include <vector>
 
 #include "x2car/core/error.hpp"
 #include "x2car/core/rotation.hpp"
@@ -112,6 +114,24 @@ std::vector<double> relative_times(std::span<const Stamp> stamps, const fs::path
   return times;
 }
 
+// A folder given as a GNSS/INS log is read as OXTS; one that holds log files instead (a simulated
+// drive's ins/ with ins.csv and novatel_enu.csv) is named with them, so the fix is plain.
+std::string logs_in_folder(const fs::path& folder) {
+  std::vector<std::string> logs;
+  std::error_code error;
+  for (fs::directory_iterator entry(folder, error), end; !error && entry != end;
+       entry.increment(error)) {
+    const std::string extension = entry->path().extension().string();
+    if (entry->is_regular_file(error) &&
+        (extension == ".csv" || extension == ".bag" || extension == ".mcap")) {
+      logs.push_back(entry->path().filename().string());
+    }
+  }
+  if (logs.empty()) return "";
+  std::ranges::sort(logs);
+  return fmt::format("; this folder holds {}: give the log file itself", fmt::join(logs, ", "));
+}
+
 }  // namespace
 
 std::span<const char* const> oxts_field_names() { return kOxtsFields; }
@@ -130,7 +150,8 @@ OxtsLog read_oxts_folder(const fs::path& folder) {
   const fs::path timestamps_file = oxts / "timestamps.txt";
   const fs::path data = oxts / "data";
   if (!fs::is_regular_file(timestamps_file, error)) {
-    throw InputError(timestamps_file.string(), "missing: an OXTS folder holds timestamps.txt");
+    throw InputError(timestamps_file.string(),
+                     "missing: an OXTS folder holds timestamps.txt" + logs_in_folder(oxts));
   }
   if (!fs::is_directory(data, error)) {
     throw InputError(data.string(), "missing: an OXTS folder holds data/ with one .txt per packet");

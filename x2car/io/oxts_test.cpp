@@ -145,6 +145,14 @@ TEST_F(OxtsTest, MissingTimestampsOrDataAreNamed) {
   expect_input_error([&] { read_oxts_folder(drive_); }, data().string(), 0);
   fs::create_directories(data());
   expect_input_error([&] { read_oxts_folder(drive_); }, data().string(), 0);  // no data files
+  // A folder of other logs (a simulated drive's ins/) is read as OXTS, and the error names them.
+  const fs::path logs = drive_ / "ins";
+  fs::create_directories(logs);
+  write_text_file(logs / "novatel_enu.csv", "x\n");
+  write_text_file(logs / "ins.csv", "x\n");
+  const InputError named =
+      expect_input_error([&] { read_oxts_folder(logs); }, (logs / "timestamps.txt").string(), 0);
+  EXPECT_THAT(named.what(), HasSubstr("holds ins.csv, novatel_enu.csv: give the log file"));
   const fs::path file = drive_ / "not_a_folder.txt";
   write_text_file(file, "x\n");
   expect_input_error([&] { read_oxts_folder(file); }, file.string(), 0);
