@@ -43,8 +43,9 @@ struct SweepPass {
   std::vector<std::optional<GroundFit>> ground;  // one per readable sweep; set on every k-th
   std::int64_t unreadable = 0;                   // sweeps skipped (skip_bad_sweeps)
   std::optional<std::string> first_read_error;   // the earliest skipped sweep's message
-  double travel_yaw = 0.0;         // the car's travel axis in the LiDAR's xy plane [rad]
-  double travel_distance_m = 0.0;  // the track's length that axis was averaged over
+  // The car's travel axis in the LiDAR's xy plane [rad], once the track covered
+  // travel_axis_distance_m; the ground was fitted across it (else across the LiDAR's x axis).
+  std::optional<double> travel_yaw;
 };
 
 // Leaves out the sweeps that could not be read: the odometry went on from the next one.
@@ -134,14 +135,14 @@ OdometryStep register_in_order(LidarOdometry& odometry, const SweepInFlight& swe
 // The sweeps whose ground was fitted before the track gave the travel's axis, fitted again (read
 // again) across the whole track's axis.
 void refit_early_ground(const SweepSource& sweeps, const LidarCalibrationOptions& options,
-                        const std::vector<std::size_t>& early,
+                        const std::vector<std::size_t>& early, double travel_yaw,
                         tbb::enumerable_thread_specific<GroundScratch>& scratch, SweepPass& pass) {
   std::vector<std::exception_ptr> errors(early.size());
   tbb::parallel_for(std::size_t{0}, early.size(), [&](std::size_t k) {
     try {
       const std::size_t index = early[k];
       pass.ground[index] =
-          fit_ground_across(sweeps.read(index), index, pass.travel_yaw, options, scratch.local());
+          fit_ground_across(sweeps.read(index), index, travel_yaw, options, scratch.local());
     } catch (...) {
       errors[k] = std::current_exception();
     }
@@ -241,10 +242,9 @@ SweepPass run_sweep_pass(const SweepSource& sweeps, const LidarCalibrationOption
   for (const std::exception_ptr& error : ground_errors) {
     if (error) std::rethrow_exception(error);
   }
-  pass.travel_distance_m = travel.distance_m();
-  if (pass.travel_distance_m >= options.travel_axis_distance_m) {
+  if (travel.distance_m() >= options.travel_axis_distance_m) {
     pass.travel_yaw = travel.yaw();
-    refit_early_ground(sweeps, options, early_ground, scratch, pass);
+    refit_early_ground(sweeps, options, early_ground, *pass.travel_yaw, scratch, pass);
   }
   drop_unreadable(unreadable, pass);
   return pass;
@@ -775,9 +775,7 @@ CalibrationResult calibrate_lidar(const SweepSource& sweeps,
   result.status = CalibrationStatus::kOk;
   result.support["sweeps"] = static_cast<std::int64_t>(count);
   const std::int64_t failed_registrations = write_odometry_counts(pass, result);
-  if (pass.travel_distance_m >= options.travel_axis_distance_m) {
-    result.diagnostics["ground_travel_yaw_deg"] = deg_from_rad(pass.travel_yaw);
-  }
+  if (pass.travel_yaw) result.diagnostics["ground_travel_yaw_deg"] = deg_from_rad(*pass.travel_yaw);
   if (count < options.min_sweeps) {
     result.status = CalibrationStatus::kInsufficientData;
     append_reason(result, fmt::format("only {} readable sweeps; need at least {}", count,
