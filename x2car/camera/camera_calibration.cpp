@@ -38,6 +38,7 @@ void CameraCalibrationOptions::Check() const {
     check.at_least("facing_pair_max_gap_s", facing_pair_max_gap_s, facing_pair_interval_s);
   }
   if (refuse_standing) standing_check.Check();
+  if (gate_window_motion) window_motion_check.Check();
   check.at_least("noisy_estimator_block_frames", noisy_estimator_block_frames, 1);
   check.non_negative("filter_frame_rate_hz", filter_frame_rate_hz);
   check.non_negative("filter_frame_rate_tolerance", filter_frame_rate_tolerance);
@@ -752,6 +753,65 @@ void refuse_standing(const CameraFrameSource& frames, TemporalFilter& filter, Fr
   filter.refuse_standing_windows(stood);
 }
 
+// Gates the steady windows of an estimator that reads no motion of its own by the images' motion in
+// a few of their frame pairs (window_motion_check.hpp). Windows whose motion is known already
+// (`--ins` over all their frames, or auto's pairs) are not looked at.
+struct WindowMotionGate {
+  std::size_t windows = 0;  // looked at
+  std::size_t judged = 0;   // of them, those whose pairs told the car's motion
+  std::size_t pairs = 0;    // the pairs that told it
+  // For plots: each judged window's middle time [s] and what its pairs read.
+  std::vector<double> times;
+  std::vector<ImageMotionJudgement> judgements;
+};
+
+WindowMotionGate gate_by_window_motion(const CameraFrameSource& frames, TemporalFilter& filter,
+                                       FrameReader& reader,
+                                       const core::CameraIntrinsics& intrinsics,
+                                       const cv::Mat& ignored_region, const Estimators& estimators,
+                                       const TemporalFilterOptions& run_filter,
+                                       const CameraCalibrationOptions& options) {
+  WindowMotionGate gate;
+  if (!options.gate_window_motion || estimators.sequence) return gate;
+  const std::vector<FilterWindow>& windows = filter.windows();
+  std::vector<MotionCheckWindow> looked_at;
+  std::vector<std::size_t> indices;
+  const Eigen::Matrix3d camera_matrix = intrinsics.camera_matrix();
+  for (std::size_t k = 0; k < windows.size(); ++k) {
+    if (windows[k].motion_known) continue;
+    MotionCheckWindow& window = looked_at.emplace_back();
+    window.first_frame = windows[k].first_frame;
+    window.last_frame = windows[k].last_frame;
+    if (const std::optional<VanishingGeometry> geometry =
+            vanishing_geometry_from_rotation(rotation_from_euler(windows[k].mean), camera_matrix)) {
+      window.guide = SequenceGuide{geometry->vanishing_point_px, geometry->horizon_line};
+    }
+    indices.push_back(k);
+  }
+  if (looked_at.empty()) return gate;
+  RoadPlaneMotionOptions motion = motion_options_for(frames, options);
+  if (!ignored_region.empty()) motion.ignored_region = ignored_region;
+  const std::vector<WindowMotionCheck> checks =
+      check_window_motion(read_or_empty(reader), frames.times, looked_at,
+                          static_cast<std::size_t>(options.motion.tracked_frames),
+                          static_cast<std::size_t>(options.motion_frame_step),
+                          options.max_pair_gap_s, make_road_plane_motion_estimator(motion),
+                          intrinsics, run_filter, options.window_motion_check);
+  std::vector<std::optional<ImageMotionJudgement>> judgements(windows.size());
+  gate.windows = checks.size();
+  for (std::size_t i = 0; i < checks.size(); ++i) {
+    const FilterWindow& window = windows[indices[i]];
+    judgements[indices[i]] = checks[i].judgement;
+    gate.pairs += checks[i].motions.size();
+    if (!checks[i].judgement) continue;
+    ++gate.judged;
+    gate.times.push_back(0.5 * (window.start_time + window.end_time));
+    gate.judgements.push_back(*checks[i].judgement);
+  }
+  filter.gate_windows_by_image_motion(judgements);
+  return gate;
+}
+
 // The vanishing point gives the car's x axis only up to its sign (facing_check.hpp): the images'
 // motion over the steady windows' frame pairs says whether the camera looks back, and then its
 // yaw is turned by 180 deg: R_V_B -> Rz(pi) R_V_B reverses the car's x and y axes in the camera
@@ -847,6 +907,8 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
   const std::vector<FrameRecord> records =
       run_frames(frames, reader, intrinsics, options, estimators, filter, verdicts);
   refuse_standing(frames, filter, reader, ignored.region, options);
+  const WindowMotionGate window_motion = gate_by_window_motion(
+      frames, filter, reader, intrinsics, ignored.region, estimators, run_filter, options);
   const FilterEstimate estimate = filter.current();
 
   CalibrationResult result;
@@ -866,6 +928,12 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
   if (estimate.windows_refused_standing > 0) {
     result.support["windows_refused_standing"] =
         static_cast<std::int64_t>(estimate.windows_refused_standing);
+  }
+  if (window_motion.windows > 0) {
+    // The geometric's windows, gated after the run by the motion of a few of their frame pairs.
+    result.support["window_motion_checked"] = static_cast<std::int64_t>(window_motion.windows);
+    result.support["window_motion_judged"] = static_cast<std::int64_t>(window_motion.judged);
+    result.support["window_motion_pairs"] = static_cast<std::int64_t>(window_motion.pairs);
   }
   count_frames(records, verdicts, result);
   if (run_filter.window_frames != given_options.filter.window_frames) {
@@ -898,7 +966,20 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
   if (lossy_tracking) {
     result.diagnostics["motion_tracking_window_px"] = options.lossy_tracking_window_px;
   }
-  if (options.keep_series) write_series(frames, records, filter, result);
+  if (options.keep_series) {
+    write_series(frames, records, filter, result);
+    if (!window_motion.times.empty()) {
+      // The window motion gate's readings, a point per window it judged (kept or refused).
+      Series yaw_rate{"window_image_yaw_rate", "rad/s", window_motion.times, {}};
+      Series acceleration{"window_image_acceleration", "m/s^2", window_motion.times, {}};
+      for (const ImageMotionJudgement& judgement : window_motion.judgements) {
+        yaw_rate.value.push_back(judgement.yaw_rate);
+        acceleration.value.push_back(judgement.acceleration_mps2);
+      }
+      result.series.push_back(std::move(yaw_rate));
+      result.series.push_back(std::move(acceleration));
+    }
+  }
   const std::optional<std::string> read_error = first_read_error(records);
 
   if (!estimate.ok) {

@@ -24,6 +24,7 @@
 #include "x2car/camera/road_plane_motion.hpp"
 #include "x2car/camera/standing_check.hpp"
 #include "x2car/camera/temporal_filter.hpp"
+#include "x2car/camera/window_motion_check.hpp"
 #include "x2car/core/calibration_result.hpp"
 #include "x2car/core/camera_model.hpp"
 #include "x2car/core/enum_names.hpp"
@@ -207,6 +208,14 @@ struct CameraCalibrationOptions {
   // standing frames.
   bool refuse_standing = true;
   StandingCheckOptions standing_check;
+  // Whether the steady windows of an estimator that reads no motion of its own (the geometric,
+  // a caller's) are gated by the images' motion after the run (window_motion_check.hpp: a few of
+  // each window's frame pairs through the motion estimator, judged by the filter's image motion
+  // gate): a window through a steady acceleration (a start from standstill) or along a long curve
+  // is steady and biased. Windows whose every frame had the car's motion (`--ins`) are not looked
+  // at; nor are auto's and motion's, which read every pair's.
+  bool gate_window_motion = true;
+  WindowMotionCheckOptions window_motion_check;
   // A frame whose `read` throws InputError (a truncated or corrupt image) is skipped and counted
   // (rejections["unreadable_image"], the first message in `reason`). Off: the InputError ends the
   // run. An image whose size is not the intrinsics' always ends it (the wrong intrinsics).

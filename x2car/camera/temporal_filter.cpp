@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <span>
 #include <stdexcept>
 #include <utility>
@@ -29,6 +30,7 @@ void TemporalFilterOptions::Check() const {
   check.positive("max_acceleration_mps2", max_acceleration_mps2);
   check.positive("max_window_yaw_rate", max_window_yaw_rate);
   check.positive("image_motion_camera_height_m", image_motion_camera_height_m);
+  check.non_negative("image_motion_significance", image_motion_significance);
   check.non_negative("weight_floor", weight_floor);
   check.positive("block_s", block_s);
   check.non_negative("standard_error_floor.roll", standard_error_floor.roll);
@@ -83,6 +85,92 @@ std::optional<FrameVerdict> motion_gate(const std::optional<VehicleMotion>& moti
     return FrameVerdict::kAccelerating;
   }
   return std::nullopt;
+}
+
+ImageMotionJudgement judge_image_motion(const std::vector<double>& times,
+                                        const std::vector<ImageMotion>& motions,
+                                        const TemporalFilterOptions& options) {
+  if (times.size() != motions.size()) {
+    reject_argument("judge_image_motion: {} times for {} motions", times.size(), motions.size());
+  }
+  ImageMotionJudgement judgement;
+  std::vector<double> kept_times;
+  std::vector<double> yaw_rates;
+  std::vector<double> speeds;
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    if (!std::isfinite(times[i]) || !std::isfinite(motions[i].yaw_rate) ||
+        !std::isfinite(motions[i].speed_over_height)) {
+      continue;
+    }
+    kept_times.push_back(times[i]);
+    yaw_rates.push_back(motions[i].yaw_rate);
+    speeds.push_back(motions[i].speed_over_height);
+  }
+  if (kept_times.empty()) return judgement;
+  // Pairs whose tracks locked onto a passing car are left out, as from the angles' means: beyond
+  // road_plane_clip MADs of the yaw rates, or of the speeds about their straight line.
+  const OutlierRejectionOptions clip{.k = options.road_plane_clip};
+  const double first_slope = slope(kept_times, speeds);
+  std::vector<double> residuals(speeds.size());
+  for (std::size_t i = 0; i < speeds.size(); ++i) {
+    residuals[i] = speeds[i] - first_slope * kept_times[i];
+  }
+  const std::vector<bool> yaw_inliers = mad_inlier_mask(yaw_rates, clip);
+  const std::vector<bool> speed_inliers = mad_inlier_mask(residuals, clip);
+  std::vector<double> inlier_times;
+  std::vector<double> inlier_yaw_rates;
+  std::vector<double> inlier_speeds;
+  for (std::size_t i = 0; i < kept_times.size(); ++i) {
+    if (yaw_inliers[i]) inlier_yaw_rates.push_back(yaw_rates[i]);
+    if (speed_inliers[i]) {
+      inlier_times.push_back(kept_times[i]);
+      inlier_speeds.push_back(speeds[i]);
+    }
+  }
+  // Each reading with its standard error: a window is refused only on evidence (below).
+  double yaw_rate_error = std::numeric_limits<double>::infinity();
+  if (!inlier_yaw_rates.empty()) judgement.yaw_rate = weighted_mean(inlier_yaw_rates);
+  if (inlier_yaw_rates.size() >= 2) {
+    yaw_rate_error = standard_deviation(inlier_yaw_rates) /
+                     std::sqrt(static_cast<double>(inlier_yaw_rates.size()));
+  }
+  double acceleration_error = std::numeric_limits<double>::infinity();
+  if (inlier_speeds.size() >= 2) {
+    const double speed_slope = slope(inlier_times, inlier_speeds);
+    judgement.acceleration_mps2 = speed_slope * options.image_motion_camera_height_m;
+    if (inlier_speeds.size() >= 3) {
+      // The least-squares slope's standard error: the residuals' variance over the times' spread.
+      const double mean_time = weighted_mean(inlier_times);
+      const double mean_speed = weighted_mean(inlier_speeds);
+      double residual_squares = 0.0;
+      double time_spread = 0.0;
+      for (std::size_t i = 0; i < inlier_times.size(); ++i) {
+        const double residual =
+            inlier_speeds[i] - mean_speed - speed_slope * (inlier_times[i] - mean_time);
+        residual_squares += residual * residual;
+        time_spread += (inlier_times[i] - mean_time) * (inlier_times[i] - mean_time);
+      }
+      if (time_spread > 0.0) {
+        acceleration_error =
+            std::sqrt(residual_squares / (static_cast<double>(inlier_speeds.size()) - 2.0) /
+                      time_spread) *
+            options.image_motion_camera_height_m;
+      }
+    }
+  }
+  judgement.yaw_rate_error = yaw_rate_error;
+  judgement.acceleration_error_mps2 = acceleration_error;
+  const double evidence = options.image_motion_significance;
+  const auto beyond = [evidence](double value, double error, double limit) {
+    return std::abs(value) > limit && std::abs(value) > evidence * error;
+  };
+  if (beyond(judgement.yaw_rate, yaw_rate_error, options.max_window_yaw_rate)) {
+    judgement.refused = FrameVerdict::kTurning;
+  } else if (beyond(judgement.acceleration_mps2, acceleration_error,
+                    options.max_acceleration_mps2)) {
+    judgement.refused = FrameVerdict::kAccelerating;
+  }
+  return judgement;
 }
 
 TemporalFilter::TemporalFilter(TemporalFilterOptions options) : options_(std::move(options)) {
@@ -172,46 +260,17 @@ std::optional<FrameVerdict> TemporalFilter::image_motion_gate(bool& known) const
   // Every frame passed the VehicleMotion gate; frames without one leave the images to tell.
   if (known) return std::nullopt;
   std::vector<double> times;
-  std::vector<double> yaw_rates;
-  std::vector<double> speeds;
+  std::vector<ImageMotion> motions;
   for (const Buffered& frame : window_) {
     if (!frame.road_plane || !frame.road_plane->motion) continue;
     const ImageMotion& motion = *frame.road_plane->motion;
     if (!std::isfinite(motion.yaw_rate) || !std::isfinite(motion.speed_over_height)) continue;
     times.push_back(frame.time - window_.front().time);
-    yaw_rates.push_back(motion.yaw_rate);
-    speeds.push_back(motion.speed_over_height);
+    motions.push_back(motion);
   }
   if (times.size() < static_cast<std::size_t>(options_.min_road_plane_frames)) return std::nullopt;
   known = true;
-  // Pairs whose tracks locked onto a passing car are left out, as from the angles' means: beyond
-  // road_plane_clip MADs of the yaw rates, or of the speeds about their straight line.
-  const OutlierRejectionOptions clip{.k = options_.road_plane_clip};
-  const double first_slope = slope(times, speeds);
-  std::vector<double> residuals(speeds.size());
-  for (std::size_t i = 0; i < speeds.size(); ++i) residuals[i] = speeds[i] - first_slope * times[i];
-  const std::vector<bool> yaw_inliers = mad_inlier_mask(yaw_rates, clip);
-  const std::vector<bool> speed_inliers = mad_inlier_mask(residuals, clip);
-  std::vector<double> kept_times;
-  std::vector<double> kept_yaw_rates;
-  std::vector<double> kept_speeds;
-  for (std::size_t i = 0; i < times.size(); ++i) {
-    if (yaw_inliers[i]) kept_yaw_rates.push_back(yaw_rates[i]);
-    if (speed_inliers[i]) {
-      kept_times.push_back(times[i]);
-      kept_speeds.push_back(speeds[i]);
-    }
-  }
-  if (!kept_yaw_rates.empty() &&
-      std::abs(weighted_mean(kept_yaw_rates)) > options_.max_window_yaw_rate) {
-    return FrameVerdict::kTurning;
-  }
-  if (kept_speeds.size() >= 2 &&
-      std::abs(slope(kept_times, kept_speeds)) * options_.image_motion_camera_height_m >
-          options_.max_acceleration_mps2) {
-    return FrameVerdict::kAccelerating;
-  }
-  return std::nullopt;
+  return judge_image_motion(times, motions, options_).refused;
 }
 
 FrameVerdict TemporalFilter::add(double time_s, const std::optional<EulerAngles>& angles,
@@ -288,6 +347,26 @@ void TemporalFilter::refuse_standing_windows(const std::vector<bool>& stood) {
     } else {
       kept.push_back(windows_[k]);
     }
+  }
+  windows_ = std::move(kept);
+}
+
+void TemporalFilter::gate_windows_by_image_motion(
+    const std::vector<std::optional<ImageMotionJudgement>>& judgements) {
+  if (judgements.size() != windows_.size()) {
+    reject_argument("TemporalFilter::gate_windows_by_image_motion: {} judgements for {} windows",
+                    judgements.size(), windows_.size());
+  }
+  std::vector<FilterWindow> kept;
+  kept.reserve(windows_.size());
+  for (std::size_t k = 0; k < windows_.size(); ++k) {
+    const std::optional<ImageMotionJudgement>& judgement = judgements[k];
+    if (judgement && judgement->refused) {
+      ++(*judgement->refused == FrameVerdict::kTurning ? refused_turning_ : refused_accelerating_);
+      continue;
+    }
+    kept.push_back(windows_[k]);
+    if (judgement) kept.back().motion_known = true;
   }
   windows_ = std::move(kept);
 }

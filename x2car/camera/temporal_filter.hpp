@@ -34,7 +34,7 @@
 //     number: consecutive frame pairs share a frame).
 // Incremental: feed frames in time order with add(), read current() at any time. A caller that
 // looks at the images after the run may refuse windows the car stood through
-// (refuse_standing_windows).
+// (refuse_standing_windows), or sped up, braked or turned through (gate_windows_by_image_motion).
 #pragma once
 
 #include <cstddef>
@@ -123,6 +123,13 @@ struct TemporalFilterOptions {
   //     1.2-1.6 m, and a taller mounting (a truck's at 2.5 m) gates less than it should by the
   //     ratio of the heights.
   double image_motion_camera_height_m = 1.5;
+  //   - either only when it lies more than this many of its standard errors from 0 (from the
+  //     yaw rates' spread over the square root of their count; from the speeds' residuals about
+  //     their line): a refusal needs evidence. The auto run's windows read ~100 pairs and are
+  //     sharp; the window motion check (window_motion_check.hpp) reads a dozen, and where most
+  //     of them found no road plane (a 30 Hz street of 1.2-s windows in the tests: 6 pairs),
+  //     their noise alone read 0.9 deg/s of yaw rate on a straight road.
+  double image_motion_significance = 3.0;
   // Added to each window's std in its weight, so that one window with an accidentally tiny spread
   // does not outweigh the rest [rad].
   double weight_floor = 0.001;
@@ -165,6 +172,30 @@ const char* to_string(FrameVerdict verdict);  // "buffered", "window_passed", "n
 std::optional<FrameVerdict> motion_gate(const std::optional<VehicleMotion>& motion,
                                         const TemporalFilterOptions& options);
 
+// What the image motion gate reads of one window's frame pairs, and its verdict.
+struct ImageMotionJudgement {
+  double yaw_rate = 0.0;           // the mean of the pairs' yaw rates [rad/s], left positive
+  double acceleration_mps2 = 0.0;  // the slope of their speeds over height, times the height
+  // Their standard errors (infinite with too few pairs: 2 for the yaw rate, 3 for the slope).
+  double yaw_rate_error = 0.0;
+  double acceleration_error_mps2 = 0.0;
+  // kTurning or kAccelerating when the window fails the gate.
+  std::optional<FrameVerdict> refused;
+};
+
+// The image motion gate's test on one window's frame pairs (ImageMotion; `times` [s] of the pairs,
+// from any origin; non-finite ones left out; pairs beyond road_plane_clip MADs of the yaw rates, or
+// of the speeds about their line, left out too: tracks that locked onto a passing car): kTurning
+// when the mean of the yaw rates exceeds max_window_yaw_rate, kAccelerating when the slope of the
+// speeds over height, times image_motion_camera_height_m, exceeds max_acceleration_mps2; either
+// only beyond image_motion_significance standard errors. TemporalFilter applies it to the frames of
+// each steady window that bring an ImageMotion (auto); window_motion_check.hpp to a few pairs of
+// the windows of an estimator that reads none. Throws std::invalid_argument unless there is one
+// time per motion.
+ImageMotionJudgement judge_image_motion(const std::vector<double>& times,
+                                        const std::vector<ImageMotion>& motions,
+                                        const TemporalFilterOptions& options);
+
 // One passing window.
 struct FilterWindow {
   std::size_t first_frame = 0;  // indices of add() calls, from 0
@@ -201,7 +232,8 @@ struct FilterEstimate {
   // The share of the pitch's weighted mean that the windows without it carry, in [0, 1].
   double pitch_weight_without_vehicle_motion = 0.0;
   // Times a steady window was refused by the image motion gate: turning, accelerating (a window
-  // slides on by a frame after a refusal, so one curve counts many times).
+  // slides on by a frame after a refusal, so one curve counts many times; a window refused after
+  // the fact, gate_windows_by_image_motion, counts once).
   std::size_t windows_refused_turning = 0;
   std::size_t windows_refused_accelerating = 0;
   // Windows refused after the fact because the car stood through them (refuse_standing_windows).
@@ -229,6 +261,14 @@ class TemporalFilter {
   // says nothing of straight driving. They leave windows() and are counted in current().
   // Throws std::invalid_argument unless there is one flag per window.
   void refuse_standing_windows(const std::vector<bool>& stood);
+
+  // The image motion gate after the fact, for an estimator whose frames bring no ImageMotion (the
+  // geometric: window_motion_check.hpp): judgements[k] for windows()[k], nullopt where the images
+  // could not tell. A refused window leaves windows() and is counted as turning or accelerating in
+  // current(); a kept one that was judged is marked motion_known. Throws std::invalid_argument
+  // unless there is one per window.
+  void gate_windows_by_image_motion(
+      const std::vector<std::optional<ImageMotionJudgement>>& judgements);
 
   // The estimate from the windows so far.
   FilterEstimate current() const;

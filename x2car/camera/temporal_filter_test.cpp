@@ -6,6 +6,8 @@
 #include <optional>
 #include <random>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 namespace x2car::camera {
 namespace {
@@ -416,6 +418,111 @@ TEST(TemporalFilter, WindowsTheCarStoodThroughAreRefused) {
   EXPECT_EQ(none.reason,
             "the car stood through 3 steady windows of 100 frames, all there were: their images "
             "did not move, and a car standing still is steady without driving straight");
+}
+
+// The image motion gate's test on a few pairs of a window (window_motion_check.hpp): 12 pairs over
+// 10 s at highway speed (20 m/s over a 1.5 m height), each speed 2 % off. A steady speed passes,
+// also with one pair that tracked a passing car; a start at 2 m/s^2 is accelerating, a long curve
+// at 1 deg/s turning; the speed's noise alone never refuses.
+TEST(TemporalFilter, TheImageMotionVerdictReadsAFewPairsOfAWindow) {
+  const TemporalFilterOptions options;
+  std::mt19937_64 random(11);
+  std::normal_distribution<double> speed_noise(0.0, 0.02);
+  std::normal_distribution<double> yaw_noise(0.0, rad_from_deg(0.3));
+  const auto pairs = [&](double speed_mps, double acceleration_mps2, double yaw_rate) {
+    std::vector<double> times;
+    std::vector<ImageMotion> motions;
+    for (int i = 0; i < 12; ++i) {
+      const double time = 0.05 + 0.9 * i;
+      times.push_back(time);
+      const double speed = speed_mps + acceleration_mps2 * (time - 5.0);
+      motions.push_back(
+          ImageMotion{.yaw_rate = yaw_rate + yaw_noise(random),
+                      .speed_over_height = speed / 1.5 * (1.0 + speed_noise(random))});
+    }
+    return std::pair{times, motions};
+  };
+  for (int trial = 0; trial < 20; ++trial) {
+    const auto [times, motions] = pairs(20.0, 0.0, 0.0);
+    EXPECT_EQ(judge_image_motion(times, motions, options).refused, std::nullopt) << trial;
+  }
+  auto [times, motions] = pairs(20.0, 0.0, 0.0);
+  motions[4].speed_over_height *= 3.0;  // a pair whose tracks followed a passing car
+  motions[4].yaw_rate = rad_from_deg(20.0);
+  EXPECT_EQ(judge_image_motion(times, motions, options).refused, std::nullopt);
+  motions[5].speed_over_height = NAN;  // left out
+  EXPECT_EQ(judge_image_motion(times, motions, options).refused, std::nullopt);
+
+  const auto [cruise_times, cruise] = pairs(20.0, 0.0, 0.0);
+  const ImageMotionJudgement read = judge_image_motion(cruise_times, cruise, options);
+  EXPECT_NEAR(read.acceleration_mps2, 0.0, 0.1);
+  EXPECT_NEAR(read.yaw_rate, 0.0, rad_from_deg(0.3));
+  const auto [start_times, start] = pairs(10.0, 2.0, 0.0);
+  EXPECT_NEAR(judge_image_motion(start_times, start, options).acceleration_mps2, 2.0, 0.2);
+  EXPECT_EQ(judge_image_motion(start_times, start, options).refused, FrameVerdict::kAccelerating);
+  const auto [braking_times, braking] = pairs(10.0, -1.0, 0.0);
+  EXPECT_EQ(judge_image_motion(braking_times, braking, options).refused,
+            FrameVerdict::kAccelerating);
+  const auto [curve_times, curve] = pairs(20.0, 0.0, rad_from_deg(1.0));
+  EXPECT_EQ(judge_image_motion(curve_times, curve, options).refused, FrameVerdict::kTurning);
+
+  // A refusal needs evidence: six pairs that scatter by ~1.4 deg/s read a mean of 0.75 deg/s, above
+  // the limit but within 3 standard errors of 0 (0.59 deg/s each), and the window stays.
+  std::vector<double> few_times;
+  std::vector<ImageMotion> few;
+  for (const double yaw_rate_deg : {2.0, -0.5, 1.5, -1.0, 2.5, 0.0}) {
+    few_times.push_back(static_cast<double>(few_times.size()));
+    few.push_back(ImageMotion{.yaw_rate = rad_from_deg(yaw_rate_deg), .speed_over_height = 10.0});
+  }
+  const ImageMotionJudgement scattered = judge_image_motion(few_times, few, options);
+  EXPECT_NEAR(scattered.yaw_rate, rad_from_deg(0.75), 1e-12);
+  EXPECT_NEAR(scattered.yaw_rate_error, rad_from_deg(0.59), rad_from_deg(0.01));
+  EXPECT_EQ(scattered.refused, std::nullopt);
+  TemporalFilterOptions without_evidence = options;
+  without_evidence.image_motion_significance = 0.0;
+  EXPECT_EQ(judge_image_motion(few_times, few, without_evidence).refused, FrameVerdict::kTurning);
+
+  EXPECT_EQ(judge_image_motion({}, {}, options).refused, std::nullopt);
+  EXPECT_THROW(judge_image_motion({0.0}, {}, options), std::invalid_argument);
+}
+
+// A caller that reads the images' motion after the run (the geometric estimator's windows) gates
+// the windows with it: a refused one leaves and is counted, a judged one is marked as having its
+// motion known, one not judged stays as it was.
+TEST(TemporalFilter, WindowsAreGatedByTheImagesMotionAfterTheFact) {
+  TemporalFilter filter;
+  NoisyFrames frames(0.001);
+  const EulerAngles nose_up{kTruth.roll, kTruth.pitch - rad_from_deg(1.0), kTruth.yaw};
+  int i = 0;
+  for (; i < 100; ++i) filter.add(0.1 * i, frames.next(nose_up));  // the start from standstill
+  for (; i < 300; ++i) filter.add(0.1 * i, frames.next());
+  ASSERT_EQ(filter.windows().size(), 3U);
+  EXPECT_NEAR(filter.current().angles.pitch, kTruth.pitch - rad_from_deg(1.0 / 3.0), 3e-4);
+
+  filter.gate_windows_by_image_motion(
+      {ImageMotionJudgement{.acceleration_mps2 = 2.0, .refused = FrameVerdict::kAccelerating},
+       ImageMotionJudgement{}, std::nullopt});
+  const FilterEstimate estimate = filter.current();
+  ASSERT_TRUE(estimate.ok);
+  EXPECT_EQ(estimate.windows, 2U);
+  EXPECT_EQ(estimate.windows_refused_accelerating, 1U);
+  EXPECT_EQ(estimate.windows_refused_turning, 0U);
+  EXPECT_EQ(estimate.motion_known_windows, 1U);
+  EXPECT_TRUE(filter.windows()[0].motion_known);
+  EXPECT_FALSE(filter.windows()[1].motion_known);
+  EXPECT_EQ(filter.windows()[0].first_frame, 100U);
+  EXPECT_NEAR(estimate.angles.pitch, kTruth.pitch, 3e-4);
+  EXPECT_THROW(filter.gate_windows_by_image_motion({std::nullopt}), std::invalid_argument);
+
+  filter.gate_windows_by_image_motion(
+      {ImageMotionJudgement{.yaw_rate = 0.02, .refused = FrameVerdict::kTurning},
+       ImageMotionJudgement{.acceleration_mps2 = -0.5, .refused = FrameVerdict::kAccelerating}});
+  const FilterEstimate none = filter.current();
+  EXPECT_FALSE(none.ok);
+  EXPECT_EQ(none.windows_refused_accelerating, 2U);
+  EXPECT_EQ(none.windows_refused_turning, 1U);
+  EXPECT_NE(none.reason.find("refused 1 for turning"), std::string::npos) << none.reason;
+  EXPECT_NE(none.reason.find("2 for speeding up or braking"), std::string::npos) << none.reason;
 }
 
 TEST(TemporalFilter, RejectsTimesOutOfOrderAndBadOptions) {
