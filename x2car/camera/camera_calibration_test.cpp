@@ -840,7 +840,8 @@ TEST(CalibrateCamera, WindowsThroughASteadyAccelerationAreRefused) {
   options.estimator = [](const cv::Mat&, const core::CameraIntrinsics& camera) {
     return exact_estimate(kMounting, camera);
   };
-  const CalibrationResult speeding_up = calibrate_camera(drive(6.0, 4.0), intrinsics, options);
+  const CameraFrameSource speeding = drive(6.0, 4.0);
+  const CalibrationResult speeding_up = calibrate_camera(speeding, intrinsics, options);
   EXPECT_EQ(speeding_up.status, CalibrationStatus::kInsufficientData);
   EXPECT_THAT(speeding_up.reason,
               ::testing::HasSubstr("refused 0 for turning (mean yaw rate above 0.5 deg/s) and 3 "
@@ -861,7 +862,7 @@ TEST(CalibrateCamera, WindowsThroughASteadyAccelerationAreRefused) {
 
   CameraCalibrationOptions not_gated = options;
   not_gated.gate_window_motion = false;
-  EXPECT_TRUE(calibrate_camera(drive(6.0, 4.0), intrinsics, not_gated).ok());
+  EXPECT_TRUE(calibrate_camera(speeding, intrinsics, not_gated).ok());
 
   const CalibrationResult steady = calibrate_camera(drive(10.0, 0.0), intrinsics, options);
   ASSERT_TRUE(steady.ok()) << steady.reason;
@@ -869,7 +870,7 @@ TEST(CalibrateCamera, WindowsThroughASteadyAccelerationAreRefused) {
   EXPECT_EQ(steady.support.at("window_motion_judged"), 3);
   EXPECT_THAT(steady.reason, ::testing::HasSubstr("the images' motion gated accelerations"));
 
-  CameraFrameSource logged = drive(6.0, 4.0);
+  CameraFrameSource logged = speeding;
   logged.motion.assign(36, VehicleMotion{.speed_mps = 12.0});
   const CalibrationResult with_log = calibrate_camera(logged, intrinsics, options);
   ASSERT_TRUE(with_log.ok()) << with_log.reason;

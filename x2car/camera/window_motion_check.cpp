@@ -57,9 +57,8 @@ std::vector<WindowMotionCheck> check_window_motion(
     if (window.last_frame >= times.size() || window.first_frame > window.last_frame) {
       throw std::invalid_argument("check_window_motion: a window outside the frames");
     }
-    const std::vector<std::size_t> starts =
-        sequence_starts(times, window.first_frame, window.last_frame, sequence_frames, frame_step,
-                        max_pair_gap_s);
+    const std::vector<std::size_t> starts = sequence_starts(
+        times, window.first_frame, window.last_frame, sequence_frames, frame_step, max_pair_gap_s);
     const std::vector<std::size_t> picked =
         evenly_spaced(starts.size(), static_cast<std::size_t>(options.pairs_per_window));
     // Read in order (a video decodes forward), each frame once; estimated in parallel.
@@ -84,9 +83,9 @@ std::vector<WindowMotionCheck> check_window_motion(
       if (!estimate.usable() || !estimate.pair_motion) return;
       const std::size_t current = starts[picked[p]] + (sequence_frames - 1) * frame_step;
       const double pair_s = times[current] - times[starts[picked[p]]];
-      motions[p] = ImageMotion{.yaw_rate = estimate.pair_motion->turn_about_up / pair_s,
-                               .speed_over_height = estimate.pair_motion->travel_over_height /
-                                                    pair_s};
+      motions[p] =
+          ImageMotion{.yaw_rate = estimate.pair_motion->turn_about_up / pair_s,
+                      .speed_over_height = estimate.pair_motion->travel_over_height / pair_s};
     });
     for (std::size_t p = 0; p < picked.size(); ++p) {
       if (!motions[p]) continue;

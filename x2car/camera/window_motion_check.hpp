@@ -7,7 +7,8 @@
 // cars 1-2 deg per g) for as long as the acceleration lasts, and that pitch is in the lines'
 // vanishing point. Most drives start from standstill, and a window over the start is steady:
 // highway 9107 of the camera sweep (docs/methods.md, camera §4) came back `ok` with its pitch
-// 1.07 deg off at a standard error of 0.20 deg from its one window, the start from 0 to 20 m/s. With
+// 1.07 deg off at a standard error of 0.20 deg from its one window, the start from 0 to 20 m/s.
+// With
 // `--ins` such frames are gated by the log, and `auto` reads the motion of every frame pair;
 // without either, this looks at `pairs_per_window` pairs spread over each window, each through the
 // motion estimator (road_plane_motion.hpp: the road plane's homography gives the camera's turn

@@ -67,8 +67,8 @@ TEST(WindowMotionCheck, AStartFromStandstillAndACurveAreRefused) {
     reads.push_back(index);
     return frame_holding(index);
   };
-  const std::vector<MotionCheckWindow> windows{{0, 99, std::nullopt}, {100, 199, std::nullopt},
-                                               {200, 299, std::nullopt}};
+  const std::vector<MotionCheckWindow> windows{
+      {0, 99, std::nullopt}, {100, 199, std::nullopt}, {200, 299, std::nullopt}};
   const std::vector<WindowMotionCheck> checks = check_window_motion(
       read, times, windows, 2, 1, 0.25, estimator, core::CameraIntrinsics{}, filter_at_height());
   ASSERT_EQ(checks.size(), 3U);
@@ -96,10 +96,10 @@ TEST(WindowMotionCheck, AStartFromStandstillAndACurveAreRefused) {
 // pairs that would cross a gap in the frames (a stop in the recording) are not taken.
 TEST(WindowMotionCheck, WhatThePairsCannotTellIsNotJudged) {
   std::vector<double> times = frame_times();
-  const SequenceEstimator cruise =
-      profile_estimator(times, [](double) { return 20.0; }, [](double) { return 0.0; });
-  const SequenceEstimator standing =
-      profile_estimator(times, [](double) { return 0.0; }, [](double) { return 0.0; });
+  const SequenceEstimator cruise = profile_estimator(
+      times, [](double) { return 20.0; }, [](double) { return 0.0; });
+  const SequenceEstimator standing = profile_estimator(
+      times, [](double) { return 0.0; }, [](double) { return 0.0; });
   const std::vector<MotionCheckWindow> window{{0, 99, std::nullopt}};
   const TemporalFilterOptions filter = filter_at_height();
 
@@ -110,8 +110,7 @@ TEST(WindowMotionCheck, WhatThePairsCannotTellIsNotJudged) {
   EXPECT_FALSE(still[0].judgement);
 
   const auto unreadable = check_window_motion([](std::size_t) { return cv::Mat(); }, times, window,
-                                              2, 1, 0.25, cruise, core::CameraIntrinsics{},
-                                              filter);
+                                              2, 1, 0.25, cruise, core::CameraIntrinsics{}, filter);
   EXPECT_FALSE(unreadable[0].judgement);
 
   // Frames 0.3 s apart: no pair fits in 0.25 s, but sequences of 3 frames fit in 0.5 s.
@@ -128,8 +127,8 @@ TEST(WindowMotionCheck, WhatThePairsCannotTellIsNotJudged) {
 
 TEST(WindowMotionCheck, RejectsBadOptionsAndWindows) {
   const std::vector<double> times = frame_times();
-  const SequenceEstimator cruise =
-      profile_estimator(times, [](double) { return 20.0; }, [](double) { return 0.0; });
+  const SequenceEstimator cruise = profile_estimator(
+      times, [](double) { return 20.0; }, [](double) { return 0.0; });
   const auto check = [&](const std::vector<MotionCheckWindow>& windows, std::size_t frames,
                          const WindowMotionCheckOptions& options) {
     return check_window_motion(frame_holding, times, windows, frames, 1, 0.25, cruise,
