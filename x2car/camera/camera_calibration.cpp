@@ -395,10 +395,8 @@ void estimate_frame(const CameraFrameSource& frames, FrameReader& reader,
                                              estimate.horizon_line, camera_matrix);
   std::optional<ImageMotion> image_motion;
   if (estimate.pair_motion) {
-    const double pair_s = frames.times[index] - frames.times[index - sequence_reach(options)];
-    image_motion =
-        ImageMotion{.yaw_rate = estimate.pair_motion->turn_about_up / pair_s,
-                    .speed_over_height = estimate.pair_motion->travel_over_height / pair_s};
+    image_motion = image_motion_over(
+        *estimate.pair_motion, frames.times[index] - frames.times[index - sequence_reach(options)]);
   }
   if (record.angles && !estimators.single) {
     // motion: the frame's angles are the road plane's and the travel's already; they ride along
@@ -758,9 +756,8 @@ void refuse_standing(const CameraFrameSource& frames, TemporalFilter& filter, Fr
 // (`--ins` over all their frames, or auto's pairs) are not looked at.
 struct WindowMotionGate {
   std::size_t windows = 0;  // looked at
-  std::size_t judged = 0;   // of them, those whose pairs told the car's motion
-  std::size_t pairs = 0;    // the pairs that told it
-  // For plots: each judged window's middle time [s] and what its pairs read.
+  std::size_t pairs = 0;    // the pairs that told the car's motion
+  // Each window whose pairs told it (judged): its middle time [s] and what its pairs read.
   std::vector<double> times;
   std::vector<ImageMotionJudgement> judgements;
 };
@@ -804,7 +801,6 @@ WindowMotionGate gate_by_window_motion(const CameraFrameSource& frames, Temporal
     judgements[indices[i]] = checks[i].judgement;
     gate.pairs += checks[i].motions.size();
     if (!checks[i].judgement) continue;
-    ++gate.judged;
     gate.times.push_back(0.5 * (window.start_time + window.end_time));
     gate.judgements.push_back(*checks[i].judgement);
   }
@@ -932,7 +928,8 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
   if (window_motion.windows > 0) {
     // The geometric's windows, gated after the run by the motion of a few of their frame pairs.
     result.support["window_motion_checked"] = static_cast<std::int64_t>(window_motion.windows);
-    result.support["window_motion_judged"] = static_cast<std::int64_t>(window_motion.judged);
+    result.support["window_motion_judged"] =
+        static_cast<std::int64_t>(window_motion.judgements.size());
     result.support["window_motion_pairs"] = static_cast<std::int64_t>(window_motion.pairs);
   }
   count_frames(records, verdicts, result);

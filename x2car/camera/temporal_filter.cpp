@@ -58,8 +58,15 @@ double largest(const EulerAngles& angles) {
   return std::max({angles.roll, angles.pitch, angles.yaw});
 }
 
-// The least-squares slope of `values` over `times` (at least two distinct times).
-double slope(std::span<const double> times, std::span<const double> values) {
+// The least-squares line of `values` over `times`: its slope (0 without two distinct times), and
+// the slope's standard error from the residuals (infinite with fewer than three samples).
+struct LineFit {
+  double slope = 0.0;
+  double slope_error = std::numeric_limits<double>::infinity();
+};
+
+LineFit fit_line(std::span<const double> times, std::span<const double> values) {
+  LineFit fit;
   const double mean_time = weighted_mean(times);
   const double mean_value = weighted_mean(values);
   double covariance = 0.0;
@@ -68,7 +75,17 @@ double slope(std::span<const double> times, std::span<const double> values) {
     covariance += (times[i] - mean_time) * (values[i] - mean_value);
     variance += (times[i] - mean_time) * (times[i] - mean_time);
   }
-  return variance > 0.0 ? covariance / variance : 0.0;
+  if (!(variance > 0.0)) return fit;
+  fit.slope = covariance / variance;
+  if (times.size() < 3) return fit;
+  double residual_squares = 0.0;
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    const double residual = values[i] - mean_value - fit.slope * (times[i] - mean_time);
+    residual_squares += residual * residual;
+  }
+  fit.slope_error =
+      std::sqrt(residual_squares / (static_cast<double>(times.size()) - 2.0) / variance);
+  return fit;
 }
 
 }  // namespace
@@ -110,7 +127,7 @@ ImageMotionJudgement judge_image_motion(const std::vector<double>& times,
   // Pairs whose tracks locked onto a passing car are left out, as from the angles' means: beyond
   // road_plane_clip MADs of the yaw rates, or of the speeds about their straight line.
   const OutlierRejectionOptions clip{.k = options.road_plane_clip};
-  const double first_slope = slope(kept_times, speeds);
+  const double first_slope = fit_line(kept_times, speeds).slope;
   std::vector<double> residuals(speeds.size());
   for (std::size_t i = 0; i < speeds.size(); ++i) {
     residuals[i] = speeds[i] - first_slope * kept_times[i];
@@ -136,27 +153,9 @@ ImageMotionJudgement judge_image_motion(const std::vector<double>& times,
   }
   double acceleration_error = std::numeric_limits<double>::infinity();
   if (inlier_speeds.size() >= 2) {
-    const double speed_slope = slope(inlier_times, inlier_speeds);
-    judgement.acceleration_mps2 = speed_slope * options.image_motion_camera_height_m;
-    if (inlier_speeds.size() >= 3) {
-      // The least-squares slope's standard error: the residuals' variance over the times' spread.
-      const double mean_time = weighted_mean(inlier_times);
-      const double mean_speed = weighted_mean(inlier_speeds);
-      double residual_squares = 0.0;
-      double time_spread = 0.0;
-      for (std::size_t i = 0; i < inlier_times.size(); ++i) {
-        const double residual =
-            inlier_speeds[i] - mean_speed - speed_slope * (inlier_times[i] - mean_time);
-        residual_squares += residual * residual;
-        time_spread += (inlier_times[i] - mean_time) * (inlier_times[i] - mean_time);
-      }
-      if (time_spread > 0.0) {
-        acceleration_error =
-            std::sqrt(residual_squares / (static_cast<double>(inlier_speeds.size()) - 2.0) /
-                      time_spread) *
-            options.image_motion_camera_height_m;
-      }
-    }
+    const LineFit fit = fit_line(inlier_times, inlier_speeds);
+    judgement.acceleration_mps2 = fit.slope * options.image_motion_camera_height_m;
+    acceleration_error = fit.slope_error * options.image_motion_camera_height_m;
   }
   judgement.yaw_rate_error = yaw_rate_error;
   judgement.acceleration_error_mps2 = acceleration_error;

@@ -50,6 +50,7 @@ std::vector<WindowMotionCheck> check_window_motion(
     throw std::invalid_argument(
         "check_window_motion: a pair needs at least 2 frames at least 1 apart");
   }
+  const std::size_t reach = (sequence_frames - 1) * frame_step;  // a pair's first to its last
   std::vector<WindowMotionCheck> checks;
   checks.reserve(windows.size());
   for (const MotionCheckWindow& window : windows) {
@@ -81,16 +82,12 @@ std::vector<WindowMotionCheck> check_window_motion(
       }
       const FrameEstimate estimate = estimator(sequence, intrinsics, window.guide);
       if (!estimate.usable() || !estimate.pair_motion) return;
-      const std::size_t current = starts[picked[p]] + (sequence_frames - 1) * frame_step;
-      const double pair_s = times[current] - times[starts[picked[p]]];
-      motions[p] =
-          ImageMotion{.yaw_rate = estimate.pair_motion->turn_about_up / pair_s,
-                      .speed_over_height = estimate.pair_motion->travel_over_height / pair_s};
+      const std::size_t first = starts[picked[p]];
+      motions[p] = image_motion_over(*estimate.pair_motion, times[first + reach] - times[first]);
     });
     for (std::size_t p = 0; p < picked.size(); ++p) {
       if (!motions[p]) continue;
-      const std::size_t current = starts[picked[p]] + (sequence_frames - 1) * frame_step;
-      check.times.push_back(times[current] - times[window.first_frame]);
+      check.times.push_back(times[starts[picked[p]] + reach] - times[window.first_frame]);
       check.motions.push_back(*motions[p]);
     }
     if (check.motions.size() >= static_cast<std::size_t>(options.min_pairs)) {

@@ -61,6 +61,13 @@ struct WindowMotionCheck {
   std::optional<ImageMotionJudgement> judgement;
 };
 
+// The car's motion over a frame pair, from the camera's over it (the motion estimator's) and the
+// pair's span [s]: its yaw rate and its speed over the camera's height.
+inline ImageMotion image_motion_over(const CameraPairMotion& pair, double pair_s) {
+  return ImageMotion{.yaw_rate = pair.turn_about_up / pair_s,
+                     .speed_over_height = pair.travel_over_height / pair_s};
+}
+
 // One check per window. A pair is `sequence_frames` frames (the motion estimator's tracked frames,
 // oldest first), `frame_step` apart, none more than `max_pair_gap_s` after the one before; pairs
 // that would cross a larger gap or leave the window are not taken. `read(i)` gives frame i (empty:
