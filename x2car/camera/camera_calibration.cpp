@@ -14,6 +14,7 @@
 #include <mutex>
 #include <opencv2/core.hpp>
 #include <thread>
+#include <tuple>
 
 #include "x2car/camera/corner_tracks.hpp"
 #include "x2car/camera/facing_check.hpp"
@@ -46,7 +47,9 @@ void CameraCalibrationOptions::Check() const {
     check.at_least("window_frames_at_any_rate", *window_frames_at_any_rate, 2);
   }
   check.at_least("estimator_min_windows", estimator_min_windows, 1);
-  check.at_least("estimator_standard_error_floor", estimator_standard_error_floor, 0.0);
+  check.non_negative("estimator_standard_error_floor.roll", estimator_standard_error_floor.roll);
+  check.non_negative("estimator_standard_error_floor.pitch", estimator_standard_error_floor.pitch);
+  check.non_negative("estimator_standard_error_floor.yaw", estimator_standard_error_floor.yaw);
   check.at_least("motion_guide_frame_step", motion_guide_frame_step, 0);
   check.at_least("motion_guide_min_frames", motion_guide_min_frames, 1);
   filter.Check();
@@ -1065,17 +1068,23 @@ CalibrationResult calibrate(const CameraFrameSource& frames,
     }
   }
   result.yaw_std = estimate.standard_error.yaw;
-  if (options.estimator && options.estimator_standard_error_floor > 0.0) {
-    for (std::optional<double>* standard_error :
-         {&result.roll_std, &result.pitch_std, &result.yaw_std}) {
-      **standard_error = std::hypot(**standard_error, options.estimator_standard_error_floor);
+  const EulerAngles& estimator_floor = options.estimator_standard_error_floor;
+  if (options.estimator &&
+      (estimator_floor.roll > 0.0 || estimator_floor.pitch > 0.0 || estimator_floor.yaw > 0.0)) {
+    for (const auto& [standard_error, floor, name] :
+         {std::tuple{&result.roll_std, estimator_floor.roll, "roll"},
+          std::tuple{&result.pitch_std, estimator_floor.pitch, "pitch"},
+          std::tuple{&result.yaw_std, estimator_floor.yaw, "yaw"}}) {
+      **standard_error = std::hypot(**standard_error, floor);
+      result.diagnostics[fmt::format("estimator_standard_error_floor_{}_deg", name)] =
+          deg_from_rad(floor);
     }
-    result.diagnostics["estimator_standard_error_floor_deg"] =
-        deg_from_rad(options.estimator_standard_error_floor);
-    append_reason(result,
-                  fmt::format("the {} estimator's own error on a drive, which its windows "
-                              "share, is in each standard error as {:.2g} deg",
-                              result.method, deg_from_rad(options.estimator_standard_error_floor)));
+    append_reason(result, fmt::format("the {} estimator's own error on a drive, which its windows "
+                                      "share, is in the standard errors as {:.2g} / {:.2g} / "
+                                      "{:.2g} deg (roll / pitch / yaw)",
+                                      result.method, deg_from_rad(estimator_floor.roll),
+                                      deg_from_rad(estimator_floor.pitch),
+                                      deg_from_rad(estimator_floor.yaw)));
   }
   // Before the windows' agreement is judged: an unreliable result keeps its angles, and a rear
   // camera's yaw must be turned in it too. Every method reads the car's x axis in front of the

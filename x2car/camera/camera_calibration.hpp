@@ -77,10 +77,10 @@ struct CameraCalibrationOptions {
   // drive mixed 303 the shipped network's only window said yaw 2.8 deg off the truth at a standard
   // error of 0.28 deg. Fewer is insufficient_data.
   int estimator_min_windows = 2;
-  // Added in quadrature to the standard errors of `estimator`'s angles [rad]: its own error on a
-  // drive, which its windows share and no spread between them shows (0: none; a learned
+  // Added in quadrature to the standard errors of `estimator`'s angles, each its own [rad]: its own
+  // error on a drive, which its windows share and no spread between them shows (0: none; a learned
   // estimator's: camera_net::LearnedEstimatorOptions::standard_error_floor).
-  double estimator_standard_error_floor = 0.0;
+  EulerAngles estimator_standard_error_floor;
   GeometricEstimatorOptions geometric;
   RoadPlaneMotionOptions motion;
   // For frames that came through a lossy codec (CameraFrameSource::lossy: JPEG, video), the motion

@@ -735,13 +735,15 @@ TEST(CalibrateCamera, ACallersEstimatorNeedsTwoWindows) {
   EXPECT_THAT(*two_windows.yaw, AngleNearDeg(kMounting.yaw, 1e-9));
 
   // What its windows share, no spread shows: its floor is in every standard error.
-  options.estimator_standard_error_floor = rad_from_deg(0.45);
+  options.estimator_standard_error_floor = {rad_from_deg(0.45), rad_from_deg(0.2), 0.0};
   const CalibrationResult floored = calibrate_camera(frames, intrinsics, options);
   ASSERT_TRUE(floored.ok()) << floored.reason;
   EXPECT_DOUBLE_EQ(*floored.roll_std, std::hypot(*two_windows.roll_std, rad_from_deg(0.45)));
-  EXPECT_DOUBLE_EQ(*floored.pitch_std, std::hypot(*two_windows.pitch_std, rad_from_deg(0.45)));
-  EXPECT_DOUBLE_EQ(*floored.yaw_std, std::hypot(*two_windows.yaw_std, rad_from_deg(0.45)));
-  EXPECT_DOUBLE_EQ(floored.diagnostics.at("estimator_standard_error_floor_deg"), 0.45);
+  EXPECT_DOUBLE_EQ(*floored.pitch_std, std::hypot(*two_windows.pitch_std, rad_from_deg(0.2)));
+  EXPECT_DOUBLE_EQ(*floored.yaw_std, *two_windows.yaw_std);
+  EXPECT_DOUBLE_EQ(floored.diagnostics.at("estimator_standard_error_floor_roll_deg"), 0.45);
+  EXPECT_DOUBLE_EQ(floored.diagnostics.at("estimator_standard_error_floor_pitch_deg"), 0.2);
+  EXPECT_DOUBLE_EQ(floored.diagnostics.at("estimator_standard_error_floor_yaw_deg"), 0.0);
   EXPECT_THAT(floored.reason, ::testing::HasSubstr("exact estimator's own error on a drive"));
 }
 

@@ -1,8 +1,8 @@
 #include "x2car/camera/geometric_estimator.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 #include <random>
@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "x2car/camera/grey_image.hpp"
+#include "x2car/camera/line_vanishing_fit.hpp"
 #include "x2car/camera/vanishing_rotation.hpp"
 #include "x2car/core/options_check.hpp"
 
@@ -36,21 +37,6 @@ void GeometricEstimatorOptions::Check() const {
 
 namespace {
 
-// One line segment in undistorted pixels, and the plane it spans with the camera centre.
-struct Segment {
-  Eigen::Vector2d midpoint_px;
-  Eigen::Vector2d direction;  // unit, in the image
-  Eigen::Vector3d line;       // a u + b v + c = 0, a^2 + b^2 = 1
-  Eigen::Vector3d normal;     // unit normal of the plane through the camera centre, in O
-  double length_px = 0.0;
-};
-
-struct DirectionFit {
-  Eigen::Vector3d direction;  // unit, in O
-  std::vector<int> inliers;   // indices into the segments
-  double support_px = 0.0;    // summed length of the inliers
-};
-
 // Whether pixel `point` lies in `region` (8-bit, the image's size; empty: nowhere). A segment's
 // end may lie a fraction of a pixel outside the image: it reads the nearest pixel.
 bool in_region(const cv::Mat& region, const Eigen::Vector2d& point) {
@@ -62,15 +48,16 @@ bool in_region(const cv::Mat& region, const Eigen::Vector2d& point) {
 
 // Step 1-2: LSD (ignored_region's segments dropped), undistorted endpoints, the length filter, each
 // segment's plane.
-std::vector<Segment> detect_segments(const cv::Mat& grey, const core::CameraIntrinsics& intrinsics,
-                                     const GeometricEstimatorOptions& options) {
+std::vector<ImageSegment> detect_segments(const cv::Mat& grey,
+                                          const core::CameraIntrinsics& intrinsics,
+                                          const GeometricEstimatorOptions& options) {
   const cv::Ptr<cv::LineSegmentDetector> detector =
       cv::createLineSegmentDetector(cv::LSD_REFINE_STD, options.lsd_scale);
   std::vector<cv::Vec4f> lines;
   detector->detect(grey, lines);
   const Eigen::Matrix3d camera_matrix_transposed = intrinsics.camera_matrix().transpose();
   const bool distorted = intrinsics.distortion_model != core::DistortionModel::kNone;
-  std::vector<Segment> segments;
+  std::vector<ImageSegment> segments;
   segments.reserve(lines.size());
   for (const cv::Vec4f& line : lines) {
     Eigen::Vector2d start(line[0], line[1]);
@@ -85,59 +72,25 @@ std::vector<Segment> detect_segments(const cv::Mat& grey, const core::CameraIntr
     }
     const double length = (end - start).norm();
     if (!(length >= options.min_segment_length_px) || length == 0.0) continue;
-    Segment segment;
-    segment.midpoint_px = 0.5 * (start + end);
-    segment.direction = (end - start) / length;
-    segment.line = start.homogeneous().cross(end.homogeneous());
-    segment.line /= segment.line.head<2>().norm();
-    // The plane of the rays K^-1 p for p on the line: normal K^T l.
-    segment.normal = (camera_matrix_transposed * segment.line).normalized();
-    segment.length_px = length;
-    segments.push_back(segment);
+    segments.push_back(image_segment(start, end, camera_matrix_transposed));
   }
   return segments;
 }
 
-// |sin| of the angle between the segment and the line from its midpoint to the (homogeneous)
-// image point `vanishing`: the consistency test of step 3, the same for a vanishing point at
-// infinity.
-double misalignment(const Segment& segment, const Eigen::Vector3d& vanishing) {
-  const Eigen::Vector3d through = segment.midpoint_px.homogeneous().cross(vanishing);
-  const double norm = through.head<2>().norm();
-  if (norm == 0.0) return 0.0;  // the vanishing point is the midpoint: any direction fits
-  return std::abs(through.x() * segment.line.y() - through.y() * segment.line.x()) / norm;
-}
-
 // The summed length of the candidates that support `direction` (RANSAC's score; no allocation).
-double support_of(const std::vector<Segment>& segments, const std::vector<int>& candidates,
+double support_of(const std::vector<ImageSegment>& segments, const std::vector<int>& candidates,
                   const Eigen::Vector3d& vanishing, double max_sin) {
   double support_px = 0.0;
   for (const int index : candidates) {
-    const Segment& segment = segments[static_cast<std::size_t>(index)];
+    const ImageSegment& segment = segments[static_cast<std::size_t>(index)];
     if (misalignment(segment, vanishing) < max_sin) support_px += segment.length_px;
   }
   return support_px;
 }
 
-DirectionFit inliers_of(const std::vector<Segment>& segments, const std::vector<int>& candidates,
-                        const Eigen::Matrix3d& camera_matrix, const Eigen::Vector3d& direction,
-                        double max_sin) {
-  DirectionFit fit;
-  fit.direction = direction;
-  const Eigen::Vector3d vanishing = camera_matrix * direction;
-  for (const int index : candidates) {
-    const Segment& segment = segments[static_cast<std::size_t>(index)];
-    if (misalignment(segment, vanishing) < max_sin) {
-      fit.inliers.push_back(index);
-      fit.support_px += segment.length_px;
-    }
-  }
-  return fit;
-}
-
 // Step 3: the direction most of the candidates' length agrees on, among the admissible ones.
 template <typename Admissible>
-std::optional<DirectionFit> ransac_direction(const std::vector<Segment>& segments,
+std::optional<DirectionFit> ransac_direction(const std::vector<ImageSegment>& segments,
                                              const std::vector<int>& candidates,
                                              const Eigen::Matrix3d& camera_matrix,
                                              const GeometricEstimatorOptions& options,
@@ -172,41 +125,16 @@ std::optional<DirectionFit> ransac_direction(const std::vector<Segment>& segment
 }
 
 // Step 4: weighted least squares on the inliers, then the inliers again; `refine_rounds` times.
-// A line fitted to L pixels with unit noise has its offset known to 1/L and its slope to
-// sqrt(12 / L^3) (continuous least squares), so at distance D from its midpoint its position varies
-// as (L^2 + 12 D^2) / L^3: the weights are the inverse.
-template <typename Admissible>
-DirectionFit refine_direction(const std::vector<Segment>& segments,
-                              const std::vector<int>& candidates,
-                              const Eigen::Matrix3d& camera_matrix,
-                              const GeometricEstimatorOptions& options, DirectionFit fit,
-                              const Admissible& admissible) {
-  const double max_sin = std::sin(options.inlier_angle);
-  for (int round = 0; round < options.refine_rounds && fit.inliers.size() >= 2; ++round) {
-    const Eigen::Vector3d vanishing = camera_matrix * fit.direction;
-    Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-    for (const int index : fit.inliers) {
-      const Segment& segment = segments[static_cast<std::size_t>(index)];
-      // Far away (a vanishing point near infinity) every segment is as far: D only scales.
-      const double distance_px =
-          std::abs(vanishing.z()) > 1e-9 * vanishing.head<2>().norm()
-              ? std::min((vanishing.head<2>() / vanishing.z() - segment.midpoint_px).norm(), 1e6)
-              : 1e6;
-      const double length = segment.length_px;
-      const double weight =
-          length * length * length / (length * length + 12.0 * distance_px * distance_px);
-      scatter += weight * segment.normal * segment.normal.transpose();
-    }
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);
-    Eigen::Vector3d direction = solver.eigenvectors().col(0);
-    if (direction.dot(fit.direction) < 0.0) direction = -direction;
-    if (!admissible(direction)) break;
-    fit = inliers_of(segments, candidates, camera_matrix, direction, max_sin);
-  }
-  return fit;
+DirectionFit refine_road_or_horizon(const std::vector<ImageSegment>& segments,
+                                    const std::vector<int>& candidates,
+                                    const Eigen::Matrix3d& camera_matrix,
+                                    const GeometricEstimatorOptions& options, DirectionFit fit,
+                                    const std::function<bool(const Eigen::Vector3d&)>& admissible) {
+  return refine_direction(segments, candidates, camera_matrix, std::sin(options.inlier_angle),
+                          options.refine_rounds, std::move(fit), admissible);
 }
 
-double rms_angle(const std::vector<Segment>& segments, const DirectionFit& fit,
+double rms_angle(const std::vector<ImageSegment>& segments, const DirectionFit& fit,
                  const Eigen::Matrix3d& camera_matrix) {
   if (fit.inliers.empty()) return 0.0;
   const Eigen::Vector3d vanishing = camera_matrix * fit.direction;
@@ -237,7 +165,7 @@ struct HorizonFit {
 };
 
 // Step 5: the up direction from the vertical vanishing point, else from a second horizontal one.
-std::optional<HorizonFit> fit_horizon(const std::vector<Segment>& segments,
+std::optional<HorizonFit> fit_horizon(const std::vector<ImageSegment>& segments,
                                       const std::vector<int>& road_inliers,
                                       const Eigen::Vector3d& road_direction,
                                       const Eigen::Matrix3d& camera_matrix,
@@ -258,8 +186,8 @@ std::optional<HorizonFit> fit_horizon(const std::vector<Segment>& segments,
   if (std::optional<DirectionFit> fit =
           ransac_direction(segments, upright, camera_matrix, options, vertical);
       fit && fit->inliers.size() >= min_inliers) {
-    DirectionFit refined =
-        refine_direction(segments, upright, camera_matrix, options, std::move(*fit), vertical);
+    DirectionFit refined = refine_road_or_horizon(segments, upright, camera_matrix, options,
+                                                  std::move(*fit), vertical);
     if (refined.inliers.size() >= min_inliers) {
       Eigen::Vector3d up = refined.direction;
       if (up.y() > 0.0) up = -up;
@@ -277,7 +205,7 @@ std::optional<HorizonFit> fit_horizon(const std::vector<Segment>& segments,
           ransac_direction(segments, other, camera_matrix, options, across);
       fit && fit->inliers.size() >= min_inliers) {
     DirectionFit refined =
-        refine_direction(segments, other, camera_matrix, options, std::move(*fit), across);
+        refine_road_or_horizon(segments, other, camera_matrix, options, std::move(*fit), across);
     if (refined.inliers.size() >= min_inliers) {
       Eigen::Vector3d up = road_direction.cross(refined.direction).normalized();
       if (up.y() > 0.0) up = -up;
@@ -288,11 +216,11 @@ std::optional<HorizonFit> fit_horizon(const std::vector<Segment>& segments,
 }
 
 // Every segment as a FrameLine, those of `fit` (when given) marked with `role`.
-void describe_lines(const std::vector<Segment>& segments, const DirectionFit* road,
+void describe_lines(const std::vector<ImageSegment>& segments, const DirectionFit* road,
                     const DirectionFit* horizon, std::vector<FrameLine>& lines) {
   lines.clear();
   lines.reserve(segments.size());
-  for (const Segment& segment : segments) {
+  for (const ImageSegment& segment : segments) {
     const Eigen::Vector2d half = 0.5 * segment.length_px * segment.direction;
     lines.push_back({segment.midpoint_px - half, segment.midpoint_px + half, LineRole::kOther});
   }
@@ -315,7 +243,7 @@ FrameEstimate estimate_frame_geometric(const cv::Mat& image,
     return rejected_frame(FrameRejection::kWrongImageSize);
   }
   const cv::Mat grey = grey_8bit(image);
-  const std::vector<Segment> segments = detect_segments(grey, intrinsics, options);
+  const std::vector<ImageSegment> segments = detect_segments(grey, intrinsics, options);
   if (lines != nullptr) describe_lines(segments, nullptr, nullptr, *lines);
   FrameEstimate estimate;
   estimate.segments = static_cast<int>(segments.size());
@@ -333,7 +261,8 @@ FrameEstimate estimate_frame_geometric(const cv::Mat& image,
   std::optional<DirectionFit> road =
       ransac_direction(segments, everything, camera_matrix, options, ahead);
   if (road && road->inliers.size() >= min_inliers) {
-    road = refine_direction(segments, everything, camera_matrix, options, std::move(*road), ahead);
+    road = refine_road_or_horizon(segments, everything, camera_matrix, options, std::move(*road),
+                                  ahead);
   }
   if (!road || road->inliers.size() < min_inliers) {
     // Tell a vanishing point elsewhere (a turn, a wall filling the view) from no agreement at all.
@@ -365,7 +294,7 @@ FrameEstimate estimate_frame_geometric(const cv::Mat& image,
   estimate.horizon_source = horizon->source;
   estimate.horizon_inliers = static_cast<int>(horizon->fit.inliers.size());
   double total_px = 0.0;
-  for (const Segment& segment : segments) total_px += segment.length_px;
+  for (const ImageSegment& segment : segments) total_px += segment.length_px;
   estimate.quality = (road->support_px + horizon->fit.support_px) / total_px;
   return estimate;
 }

@@ -4,18 +4,59 @@
 
 #include <cmath>
 #include <opencv2/core.hpp>
+#include <optional>
+#include <vector>
 
+#include "x2car/camera/line_vanishing_fit.hpp"
 #include "x2car/core/error.hpp"
 #include "x2car/core/options_check.hpp"
 
 namespace x2car::camera_net {
+
+namespace {
+
+// The network's vanishing point refined on the segments it says pass through it (its line
+// classification, paper §III-A), in the camera's undistorted pixels; nullopt when they do not
+// carry it (docs/methods.md, camera §1b).
+std::optional<camera::DirectionFit> refine_on_lines_through(
+    const InputFrame& frame, const std::vector<int>& chosen, const NetworkPrediction& prediction,
+    const cv::Size& image_size, const core::CameraIntrinsics& intrinsics,
+    const InputGeometry& input, const Eigen::Vector2d& network_vp_px,
+    const LearnedEstimatorOptions& options) {
+  const Eigen::Matrix3d camera_matrix = intrinsics.camera_matrix();
+  const Eigen::Matrix3d camera_matrix_transposed = camera_matrix.transpose();
+  const bool distorted = intrinsics.distortion_model != core::DistortionModel::kNone;
+  std::vector<camera::ImageSegment> through;
+  through.reserve(chosen.size());
+  for (std::size_t query = 0; query < chosen.size(); ++query) {
+    if (!(prediction.line_probability[query] > options.line_through_probability)) continue;
+    const InputSegment& segment = frame.segments[static_cast<std::size_t>(chosen[query])];
+    Eigen::Vector2d start = image_from_input_px(segment.start_px, image_size, input);
+    Eigen::Vector2d end = image_from_input_px(segment.end_px, image_size, input);
+    if (distorted) {
+      start = core::undistort_pixel(intrinsics, start);
+      end = core::undistort_pixel(intrinsics, end);
+    }
+    if (!((end - start).norm() > 0.0)) continue;
+    through.push_back(camera::image_segment(start, end, camera_matrix_transposed));
+  }
+  return camera::refine_vanishing_guess(through, camera_matrix,
+                                        camera_matrix.inverse() * network_vp_px.homogeneous(),
+                                        options.refinement);
+}
+
+}  // namespace
 
 void LearnedEstimatorOptions::Check() const {
   const OptionsCheck check("LearnedEstimatorOptions");
   check.in_range("lsd_scale", lsd_scale, 0.0, 1.0, Bounds::kOpenMin);
   check.non_negative("min_segment_length_px", min_segment_length_px);
   check.in_range("max_aspect_difference", max_aspect_difference, 0.0, 1.0);
-  check.non_negative("standard_error_floor", standard_error_floor);
+  check.in_range("line_through_probability", line_through_probability, 0.0, 1.0);
+  refinement.Check();
+  check.non_negative("standard_error_floor.roll", standard_error_floor.roll);
+  check.non_negative("standard_error_floor.pitch", standard_error_floor.pitch);
+  check.non_negative("standard_error_floor.yaw", standard_error_floor.yaw);
 }
 
 void check_network_fits(const VpHlNetwork& network, const core::CameraIntrinsics& intrinsics,
@@ -48,7 +89,8 @@ camera::FrameEstimator make_learned_estimator(std::shared_ptr<const VpHlNetwork>
                                               options.min_segment_length_px);
     NetworkBatch batch;
     resize_batch(batch, 1, network_options);
-    fill_batch_row(batch, 0, frame, network_options, options.line_seed);
+    const std::vector<int> chosen =
+        fill_batch_row(batch, 0, frame, network_options, options.line_seed);
     const NetworkPrediction prediction = network->predict(batch).front();
 
     camera::FrameEstimate estimate;
@@ -62,6 +104,12 @@ camera::FrameEstimator make_learned_estimator(std::shared_ptr<const VpHlNetwork>
         image_from_input_angle(prediction.horizon_angle, image.size(), network_options.input);
     if (!vp.allFinite() || !std::isfinite(angle)) {
       return camera::rejected_frame(camera::FrameRejection::kNoConsensus);
+    }
+    std::optional<camera::DirectionFit> refined;
+    if (options.refine_vanishing_point) {
+      refined = refine_on_lines_through(frame, chosen, prediction, image.size(), intrinsics,
+                                        network_options.input, vp, options);
+      if (refined) vp = (intrinsics.camera_matrix() * refined->direction).hnormalized();
     }
     estimate.road_vanishing_point_px = vp;
     // The line through the VP along (cos, -sin): normal (sin, cos), b = cos > 0 for |angle| < 90.
@@ -77,7 +125,7 @@ camera::FrameEstimator make_learned_estimator(std::shared_ptr<const VpHlNetwork>
       through += prediction.line_probability[i] > 0.5f ? 1 : 0;
     }
     estimate.segments = static_cast<int>(frame.segments.size());
-    estimate.road_inliers = through;
+    estimate.road_inliers = refined ? static_cast<int>(refined->inliers.size()) : through;
     estimate.quality = lines > 0 ? probability / lines : 0.0;
     return estimate;
   };

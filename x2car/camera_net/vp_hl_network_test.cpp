@@ -273,14 +273,16 @@ TEST(LearnedEstimator, ConfiguresACalibration) {
   if (!network_available()) GTEST_SKIP() << "built without LibTorch";
   camera::CameraCalibrationOptions calibration;
   LearnedEstimatorOptions options;
-  options.standard_error_floor = 0.01;
+  options.standard_error_floor = {0.01, 0.02, 0.03};
   configure_learned_calibration(calibration, std::make_shared<const VpHlNetwork>(tiny_network(), 1),
                                 options);
   EXPECT_TRUE(static_cast<bool>(calibration.estimator));
   EXPECT_EQ(calibration.estimator_name, "learned");  // the CLI's word
   EXPECT_TRUE(calibration.estimator_scatters);
   EXPECT_EQ(calibration.estimator_min_windows, 2);
-  EXPECT_EQ(calibration.estimator_standard_error_floor, 0.01);
+  EXPECT_EQ(calibration.estimator_standard_error_floor.roll, 0.01);
+  EXPECT_EQ(calibration.estimator_standard_error_floor.pitch, 0.02);
+  EXPECT_EQ(calibration.estimator_standard_error_floor.yaw, 0.03);
   calibration.Check();
 }
 
