@@ -327,10 +327,8 @@ FrameEstimate estimate_sequence(const CameraFrameSource& frames, FrameReader& re
   if (index < reach) return rejected_frame(FrameRejection::kNoPreviousFrame);
   const std::size_t first = index - reach;
   const auto step = static_cast<std::size_t>(std::max(options.motion_frame_step, 1));
-  for (std::size_t i = first + step; i <= index; i += step) {
-    if (frames.times[i] - frames.times[i - step] > options.max_pair_gap_s) {
-      return rejected_frame(FrameRejection::kNoPreviousFrame);
-    }
+  if (!steps_within_gap(frames.times, first, index, step, options.max_pair_gap_s)) {
+    return rejected_frame(FrameRejection::kNoPreviousFrame);
   }
   std::vector<cv::Mat> sequence;
   sequence.reserve(static_cast<std::size_t>(options.motion.tracked_frames));

@@ -47,6 +47,14 @@ std::vector<CornerTrack> track_corners(const cv::Mat& earlier, const cv::Mat& la
   return track_points(earlier, later, corners);
 }
 
+bool steps_within_gap(const std::vector<double>& times, std::size_t first, std::size_t last,
+                      std::size_t step, double max_gap_s) {
+  for (std::size_t i = first + step; i <= last; i += step) {
+    if (times[i] - times[i - step] > max_gap_s) return false;
+  }
+  return true;
+}
+
 std::vector<std::pair<std::size_t, std::size_t>> frame_pairs_in(const std::vector<double>& times,
                                                                 std::size_t first, std::size_t last,
                                                                 double interval_s,

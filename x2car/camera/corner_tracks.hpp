@@ -34,6 +34,11 @@ std::vector<CornerTrack> track_points(const cv::Mat& earlier, const cv::Mat& lat
 std::vector<CornerTrack> track_corners(const cv::Mat& earlier, const cv::Mat& later,
                                        const cv::Mat& ignored_region, int max_corners);
 
+// Whether every step of `step` frames from `first` to `last` (indices into `times` [s]) spans at
+// most `max_gap_s`: no frame dropped or stop in the recording between frames tracked together.
+bool steps_within_gap(const std::vector<double>& times, std::size_t first, std::size_t last,
+                      std::size_t step, double max_gap_s);
+
 // The pairs (i, j) of frames first..last (indices into `times` [s], increasing) that pair each
 // frame i with the first frame j at least `interval_s` later, when that is at most `max_gap_s`
 // later (a frame dropped, a stop in the recording), in order.

@@ -30,6 +30,19 @@ TEST(FramePairsIn, PairsEachFrameWithTheFirstFarEnoughOnWithinTheWindow) {
   EXPECT_THAT(frame_pairs_in(rounded, 0, 2, 0.2, 0.5), ElementsAre(Pair{0, 2}));
 }
 
+TEST(StepsWithinGap, EveryStepOfTheSequenceSpansAtMostTheGap) {
+  // 10 Hz with a frame dropped after 0.3 s.
+  const std::vector<double> times{0.0, 0.1, 0.2, 0.3, 0.5, 0.6, 0.7};
+  EXPECT_TRUE(steps_within_gap(times, 0, 3, 1, 0.15));
+  EXPECT_FALSE(steps_within_gap(times, 2, 5, 1, 0.15));  // 0.3 -> 0.5
+  EXPECT_TRUE(steps_within_gap(times, 2, 5, 1, 0.2));    // exactly the gap
+  // Two frames a step: 0.1 -> 0.3 and 0.3 -> 0.6.
+  EXPECT_TRUE(steps_within_gap(times, 1, 5, 2, 0.3));
+  EXPECT_FALSE(steps_within_gap(times, 1, 5, 2, 0.25));
+  // A sequence of one frame has no step.
+  EXPECT_TRUE(steps_within_gap(times, 4, 4, 1, 0.0));
+}
+
 TEST(EvenlySpaced, SpreadsFromTheFirstToTheLast) {
   EXPECT_THAT(evenly_spaced(10, 4), ElementsAre(0U, 3U, 6U, 9U));
   EXPECT_THAT(evenly_spaced(3, 4), ElementsAre(0U, 1U, 2U));

@@ -91,8 +91,8 @@ std::optional<DirectionFit> refine_vanishing_guess(const std::vector<ImageSegmen
   std::vector<int> candidates(segments.size());
   std::iota(candidates.begin(), candidates.end(), 0);
   const auto min_inliers = static_cast<std::size_t>(options.min_inliers);
-  DirectionFit fit = inliers_of(segments, candidates, camera_matrix, start,
-                                std::sin(options.capture_angle));
+  DirectionFit fit =
+      inliers_of(segments, candidates, camera_matrix, start, std::sin(options.capture_angle));
   if (fit.inliers.size() < min_inliers) return std::nullopt;
   const double min_cos = std::cos(options.max_shift);
   bool refused = false;

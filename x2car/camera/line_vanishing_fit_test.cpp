@@ -39,9 +39,9 @@ Scene scene(int through, int others, std::uint64_t seed) {
   for (int i = 0; i < through + others; ++i) {
     Eigen::Vector2d start(u(random), v(random));
     if ((start - vanishing_px).norm() < 100.0) start = vanishing_px + Eigen::Vector2d(150.0, 90.0);
-    const Eigen::Vector2d along = i < through ? Eigen::Vector2d((vanishing_px - start).normalized())
-                                              : Eigen::Vector2d(std::cos(angle(random)),
-                                                                std::sin(angle(random)));
+    const Eigen::Vector2d along =
+        i < through ? Eigen::Vector2d((vanishing_px - start).normalized())
+                    : Eigen::Vector2d(std::cos(angle(random)), std::sin(angle(random)));
     s.segments.push_back(image_segment(start, start + length(random) * along, transposed));
   }
   return s;
@@ -50,9 +50,8 @@ Scene scene(int through, int others, std::uint64_t seed) {
 TEST(LineVanishingFit, AGuessIsRefinedOntoTheLinesThroughItsVanishingPoint) {
   const Scene s = scene(12, 20, 1);
   for (const double guess_error_deg : {-3.0, -1.0, 0.5, 2.0}) {
-    const std::optional<DirectionFit> fit =
-        refine_vanishing_guess(s.segments, s.camera_matrix,
-                               yawed(s.road_direction, rad_from_deg(guess_error_deg)), {});
+    const std::optional<DirectionFit> fit = refine_vanishing_guess(
+        s.segments, s.camera_matrix, yawed(s.road_direction, rad_from_deg(guess_error_deg)), {});
     ASSERT_TRUE(fit.has_value()) << guess_error_deg;
     EXPECT_LT(std::acos(std::min(1.0, fit->direction.dot(s.road_direction))), 1e-6)
         << guess_error_deg;
@@ -81,8 +80,8 @@ TEST(LineVanishingFit, WhatTheLinesDoNotCarryIsNotRefined) {
                                      yawed(s.road_direction, rad_from_deg(0.5)), near));
   // A guess behind the camera or not finite.
   EXPECT_FALSE(refine_vanishing_guess(s.segments, s.camera_matrix, -s.road_direction, {}));
-  EXPECT_FALSE(refine_vanishing_guess(s.segments, s.camera_matrix,
-                                      Eigen::Vector3d(NAN, 0.0, 1.0), {}));
+  EXPECT_FALSE(
+      refine_vanishing_guess(s.segments, s.camera_matrix, Eigen::Vector3d(NAN, 0.0, 1.0), {}));
 }
 
 TEST(LineVanishingFit, RejectsBadOptions) {

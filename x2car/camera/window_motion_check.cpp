@@ -27,11 +27,9 @@ std::vector<std::size_t> sequence_starts(const std::vector<double>& times, std::
   std::vector<std::size_t> starts;
   const std::size_t reach = (sequence_frames - 1) * frame_step;
   for (std::size_t start = first; start + reach <= last; ++start) {
-    bool fits = true;
-    for (std::size_t i = start + frame_step; i <= start + reach; i += frame_step) {
-      if (times[i] - times[i - frame_step] > max_pair_gap_s) fits = false;
+    if (steps_within_gap(times, start, start + reach, frame_step, max_pair_gap_s)) {
+      starts.push_back(start);
     }
-    if (fits) starts.push_back(start);
   }
   return starts;
 }
