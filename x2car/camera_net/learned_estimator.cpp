@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <opencv2/core.hpp>
 #include <optional>
@@ -12,40 +13,6 @@
 #include "x2car/core/options_check.hpp"
 
 namespace x2car::camera_net {
-
-namespace {
-
-// The network's vanishing point refined on the segments it says pass through it (its line
-// classification, paper §III-A), in the camera's undistorted pixels; nullopt when they do not
-// carry it (docs/methods.md, camera §1b).
-std::optional<camera::DirectionFit> refine_on_lines_through(
-    const InputFrame& frame, const std::vector<int>& chosen, const NetworkPrediction& prediction,
-    const cv::Size& image_size, const core::CameraIntrinsics& intrinsics,
-    const InputGeometry& input, const Eigen::Vector2d& network_vp_px,
-    const LearnedEstimatorOptions& options) {
-  const Eigen::Matrix3d camera_matrix = intrinsics.camera_matrix();
-  const Eigen::Matrix3d camera_matrix_transposed = camera_matrix.transpose();
-  const bool distorted = intrinsics.distortion_model != core::DistortionModel::kNone;
-  std::vector<camera::ImageSegment> through;
-  through.reserve(chosen.size());
-  for (std::size_t query = 0; query < chosen.size(); ++query) {
-    if (!(prediction.line_probability[query] > options.line_through_probability)) continue;
-    const InputSegment& segment = frame.segments[static_cast<std::size_t>(chosen[query])];
-    Eigen::Vector2d start = image_from_input_px(segment.start_px, image_size, input);
-    Eigen::Vector2d end = image_from_input_px(segment.end_px, image_size, input);
-    if (distorted) {
-      start = core::undistort_pixel(intrinsics, start);
-      end = core::undistort_pixel(intrinsics, end);
-    }
-    if (!((end - start).norm() > 0.0)) continue;
-    through.push_back(camera::image_segment(start, end, camera_matrix_transposed));
-  }
-  return camera::refine_vanishing_guess(through, camera_matrix,
-                                        camera_matrix.inverse() * network_vp_px.homogeneous(),
-                                        options.refinement);
-}
-
-}  // namespace
 
 void LearnedEstimatorOptions::Check() const {
   const OptionsCheck check("LearnedEstimatorOptions");
@@ -72,6 +39,33 @@ void check_network_fits(const VpHlNetwork& network, const core::CameraIntrinsics
                                  trained.image_width, trained.image_height, trained_aspect,
                                  intrinsics.width, intrinsics.height, aspect));
   }
+}
+
+std::optional<camera::DirectionFit> refine_on_lines_through(
+    const InputFrame& frame, const std::vector<int>& chosen,
+    const std::vector<float>& line_probability, const cv::Size& image_size,
+    const core::CameraIntrinsics& intrinsics, const InputGeometry& input,
+    const Eigen::Vector2d& network_vp_px, const LearnedEstimatorOptions& options) {
+  const Eigen::Matrix3d camera_matrix = intrinsics.camera_matrix();
+  const Eigen::Matrix3d camera_matrix_transposed = camera_matrix.transpose();
+  const bool distorted = intrinsics.distortion_model != core::DistortionModel::kNone;
+  std::vector<camera::ImageSegment> through;
+  through.reserve(chosen.size());
+  for (std::size_t query = 0; query < std::min(chosen.size(), line_probability.size()); ++query) {
+    if (!(line_probability[query] > options.line_through_probability)) continue;
+    const InputSegment& segment = frame.segments[static_cast<std::size_t>(chosen[query])];
+    Eigen::Vector2d start = image_from_input_px(segment.start_px, image_size, input);
+    Eigen::Vector2d end = image_from_input_px(segment.end_px, image_size, input);
+    if (distorted) {
+      start = core::undistort_pixel(intrinsics, start);
+      end = core::undistort_pixel(intrinsics, end);
+    }
+    if (!((end - start).norm() > 0.0)) continue;
+    through.push_back(camera::image_segment(start, end, camera_matrix_transposed));
+  }
+  return camera::refine_vanishing_guess(through, camera_matrix,
+                                        camera_matrix.inverse() * network_vp_px.homogeneous(),
+                                        options.refinement);
 }
 
 camera::FrameEstimator make_learned_estimator(std::shared_ptr<const VpHlNetwork> network,
@@ -107,8 +101,8 @@ camera::FrameEstimator make_learned_estimator(std::shared_ptr<const VpHlNetwork>
     }
     std::optional<camera::DirectionFit> refined;
     if (options.refine_vanishing_point) {
-      refined = refine_on_lines_through(frame, chosen, prediction, image.size(), intrinsics,
-                                        network_options.input, vp, options);
+      refined = refine_on_lines_through(frame, chosen, prediction.line_probability, image.size(),
+                                        intrinsics, network_options.input, vp, options);
       if (refined) vp = (intrinsics.camera_matrix() * refined->direction).hnormalized();
     }
     estimate.road_vanishing_point_px = vp;

@@ -7,11 +7,14 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "x2car/camera/camera_calibration.hpp"
 #include "x2car/camera/frame_estimate.hpp"
 #include "x2car/camera/line_vanishing_fit.hpp"
+#include "x2car/camera_net/network_input.hpp"
 #include "x2car/camera_net/vp_hl_network.hpp"
 #include "x2car/core/camera_model.hpp"
 #include "x2car/core/rotation.hpp"
@@ -58,6 +61,18 @@ struct LearnedEstimatorOptions {
 // size fits any.
 void check_network_fits(const VpHlNetwork& network, const core::CameraIntrinsics& intrinsics,
                         const std::string& model_name, const LearnedEstimatorOptions& options = {});
+
+// The network's vanishing point refined on the segments it says pass through it
+// (LearnedEstimatorOptions::refine_vanishing_point; docs/methods.md, camera §1b): `frame`'s
+// segments are in input pixels, `chosen[q]` is line query q's segment and `line_probability[q]`
+// the network's probability that it passes through the vanishing point; `network_vp_px` is in
+// the camera's undistorted pixels, as is the result's vanishing point (K times its direction).
+// nullopt where the lines do not carry it (camera::refine_vanishing_guess).
+std::optional<camera::DirectionFit> refine_on_lines_through(
+    const InputFrame& frame, const std::vector<int>& chosen,
+    const std::vector<float>& line_probability, const cv::Size& image_size,
+    const core::CameraIntrinsics& intrinsics, const InputGeometry& input,
+    const Eigen::Vector2d& network_vp_px, const LearnedEstimatorOptions& options = {});
 
 // The estimator; the network is shared between the calibrator's threads (predict() serialises).
 camera::FrameEstimator make_learned_estimator(std::shared_ptr<const VpHlNetwork> network,
