@@ -75,9 +75,8 @@ TEST(LearnedEstimator, TheNetworksVanishingPointIsRefinedOnTheLinesItSaysPassThr
   // (about its error at full resolution): the lines' vanishing point, exactly.
   const std::vector<float> probability = right_about_the_lines(view, 10);
   const Eigen::Vector2d network_vp = road_vanishing_point(view) + Eigen::Vector2d(12.0, -9.0);
-  const std::optional<camera::DirectionFit> refined =
-      refine_on_lines_through(view.frame, view.chosen, probability, image_size, view.intrinsics,
-                              view.input, network_vp);
+  const std::optional<camera::DirectionFit> refined = refine_on_lines_through(
+      view.frame, view.chosen, probability, image_size, view.intrinsics, view.input, network_vp);
   ASSERT_TRUE(refined.has_value());
   const Eigen::Vector2d refined_vp =
       (view.intrinsics.camera_matrix() * refined->direction).hnormalized();
@@ -108,8 +107,8 @@ TEST(LearnedEstimator, LinesTheNetworkDoesNotTrustLeaveItsVanishingPoint) {
                                        view.intrinsics, view.input, network_vp));
   // Fewer probabilities than queries (a padded batch): only those are read.
   std::vector<float> three(3, 0.9f);
-  EXPECT_FALSE(refine_on_lines_through(view.frame, view.chosen, three, image_size,
-                                       view.intrinsics, view.input, network_vp));
+  EXPECT_FALSE(refine_on_lines_through(view.frame, view.chosen, three, image_size, view.intrinsics,
+                                       view.input, network_vp));
   // The options' threshold decides which lines count.
   LearnedEstimatorOptions strict;
   strict.line_through_probability = 0.95;
