@@ -47,9 +47,7 @@ void CameraCalibrationOptions::Check() const {
     check.at_least("window_frames_at_any_rate", *window_frames_at_any_rate, 2);
   }
   check.at_least("estimator_min_windows", estimator_min_windows, 1);
-  check.non_negative("estimator_standard_error_floor.roll", estimator_standard_error_floor.roll);
-  check.non_negative("estimator_standard_error_floor.pitch", estimator_standard_error_floor.pitch);
-  check.non_negative("estimator_standard_error_floor.yaw", estimator_standard_error_floor.yaw);
+  check.non_negative("estimator_standard_error_floor", estimator_standard_error_floor);
   check.at_least("motion_guide_frame_step", motion_guide_frame_step, 0);
   check.at_least("motion_guide_min_frames", motion_guide_min_frames, 1);
   filter.Check();

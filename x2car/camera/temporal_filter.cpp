@@ -33,9 +33,7 @@ void TemporalFilterOptions::Check() const {
   check.non_negative("image_motion_significance", image_motion_significance);
   check.non_negative("weight_floor", weight_floor);
   check.positive("block_s", block_s);
-  check.non_negative("standard_error_floor.roll", standard_error_floor.roll);
-  check.non_negative("standard_error_floor.pitch", standard_error_floor.pitch);
-  check.non_negative("standard_error_floor.yaw", standard_error_floor.yaw);
+  check.non_negative("standard_error_floor", standard_error_floor);
   check.at_least("min_road_plane_frames", min_road_plane_frames, 2);
   check.positive("road_plane_clip", road_plane_clip);
 }

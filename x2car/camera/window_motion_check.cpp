@@ -19,13 +19,12 @@ void WindowMotionCheckOptions::Check() const {
 
 namespace {
 
-// The first frames of the sequences that fit in [first, last]: `sequence_frames` frames
-// `frame_step` apart, no step longer than max_pair_gap_s.
+// The first frames of the sequences that fit in [first, last]: frames `frame_step` apart over
+// `reach` frames, no step longer than max_pair_gap_s.
 std::vector<std::size_t> sequence_starts(const std::vector<double>& times, std::size_t first,
-                                         std::size_t last, std::size_t sequence_frames,
+                                         std::size_t last, std::size_t reach,
                                          std::size_t frame_step, double max_pair_gap_s) {
   std::vector<std::size_t> starts;
-  const std::size_t reach = (sequence_frames - 1) * frame_step;
   for (std::size_t start = first; start + reach <= last; ++start) {
     if (steps_within_gap(times, start, start + reach, frame_step, max_pair_gap_s)) {
       starts.push_back(start);
@@ -57,7 +56,7 @@ std::vector<WindowMotionCheck> check_window_motion(
       throw std::invalid_argument("check_window_motion: a window outside the frames");
     }
     const std::vector<std::size_t> starts = sequence_starts(
-        times, window.first_frame, window.last_frame, sequence_frames, frame_step, max_pair_gap_s);
+        times, window.first_frame, window.last_frame, reach, frame_step, max_pair_gap_s);
     const std::vector<std::size_t> picked =
         evenly_spaced(starts.size(), static_cast<std::size_t>(options.pairs_per_window));
     // Read in order (a video decodes forward), each frame once; estimated in parallel.

@@ -21,9 +21,7 @@ void LearnedEstimatorOptions::Check() const {
   check.in_range("max_aspect_difference", max_aspect_difference, 0.0, 1.0);
   check.in_range("line_through_probability", line_through_probability, 0.0, 1.0);
   refinement.Check();
-  check.non_negative("standard_error_floor.roll", standard_error_floor.roll);
-  check.non_negative("standard_error_floor.pitch", standard_error_floor.pitch);
-  check.non_negative("standard_error_floor.yaw", standard_error_floor.yaw);
+  check.non_negative("standard_error_floor", standard_error_floor);
 }
 
 void check_network_fits(const VpHlNetwork& network, const core::CameraIntrinsics& intrinsics,

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "x2car/core/rotation.hpp"
+
 namespace x2car {
 namespace {
 
@@ -44,6 +46,12 @@ void OptionsCheck::positive(std::string_view field, double value) const {
 
 void OptionsCheck::non_negative(std::string_view field, double value) const {
   if (!(value >= 0.0 && std::isfinite(value))) fail(field, "must be >= 0 and finite", value);
+}
+
+void OptionsCheck::non_negative(std::string_view field, const EulerAngles& angles) const {
+  non_negative(fmt::format("{}.roll", field), angles.roll);
+  non_negative(fmt::format("{}.pitch", field), angles.pitch);
+  non_negative(fmt::format("{}.yaw", field), angles.yaw);
 }
 
 void OptionsCheck::at_least(std::string_view field, double value, double min) const {

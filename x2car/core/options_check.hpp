@@ -23,6 +23,8 @@
 
 namespace x2car {
 
+struct EulerAngles;
+
 // Which ends of [min, max] belong to the range, as in mathematics: kClosed is [min, max],
 // kOpen is (min, max), kOpenMin is (min, max], kOpenMax is [min, max).
 enum class Bounds { kClosed, kOpen, kOpenMin, kOpenMax };
@@ -38,6 +40,8 @@ class OptionsCheck {
   void positive(std::string_view field, double value) const;
   // value is finite and >= 0.
   void non_negative(std::string_view field, double value) const;
+  // Each of roll, pitch and yaw finite and >= 0 ("<field>.roll", ...).
+  void non_negative(std::string_view field, const EulerAngles& angles) const;
   // value >= min (may be +inf).
   void at_least(std::string_view field, double value, double min) const;
   // value <= max (may be -inf).

@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "x2car/core/rotation.hpp"
+
 namespace x2car {
 namespace {
 
@@ -84,6 +86,23 @@ TEST(OptionsCheck, BoundsIncludeTheEndsTheySay) {
   EXPECT_NO_THROW(check.ordered("a", 2.0, "b", 2.0));
   EXPECT_NO_THROW(check.probability("p", 1.0));
   EXPECT_THROW(check.probability("p", -0.1), std::invalid_argument);
+}
+
+TEST(OptionsCheck, EachAngleIsCheckedAndNamed) {
+  const OptionsCheck check("FilterOptions");
+  EXPECT_NO_THROW(check.non_negative("floor", EulerAngles{0.0, 0.1, 0.2}));
+  EXPECT_THAT(message_of([&] {
+                check.non_negative("floor", EulerAngles{0.1, -0.1, 0.1});
+              }),
+              HasSubstr("FilterOptions.floor.pitch must be >= 0 and finite"));
+  EXPECT_THAT(message_of([&] {
+                check.non_negative("floor", EulerAngles{0.1, 0.1, kNaN});
+              }),
+              HasSubstr("FilterOptions.floor.yaw"));
+  EXPECT_THAT(message_of([&] {
+                check.non_negative("floor", EulerAngles{kInf, 0.1, 0.1});
+              }),
+              HasSubstr("FilterOptions.floor.roll"));
 }
 
 }  // namespace
